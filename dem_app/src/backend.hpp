@@ -1,0 +1,38 @@
+// An RVE backend: owns the RVEs of one server rank and advances them.
+// The server loop (server_loop.cpp) handles the protocol; a backend only does mechanics.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "mpmdem/protocol.hpp"
+
+namespace mpmdem::dem {
+
+struct BackendContext {
+  std::uint64_t first_rve = 0;  // global id of this rank's first RVE
+  std::uint64_t n_rve = 0;      // RVEs owned by this rank
+  std::uint32_t outputs = 0;    // protocol::OutputBits requested by the scene
+  int rank = 0;
+  std::filesystem::path run_dir;
+};
+
+class RveBackend {
+ public:
+  virtual ~RveBackend() = default;
+  virtual std::string name() const = 0;
+  // Called once after the handshake; allocates this rank's RVEs.
+  virtual void setup(const BackendContext& ctx) = 0;
+  // Set each owned RVE's starting stress; fill one reply per RVE.
+  virtual void initialise(const protocol::RveInit* init, protocol::RveReply* reply) = 0;
+  // Advance each owned RVE by its request; fill one reply per RVE. Faults inside an RVE go
+  // into RveReply::status; an exception means the whole rank failed.
+  virtual void step(const protocol::ControlHeader& header, const protocol::RveRequest* req,
+                    protocol::RveReply* reply) = 0;
+  virtual void checkpoint(const std::filesystem::path& dir) = 0;
+  virtual void restore(const std::filesystem::path& dir) = 0;
+};
+
+}  // namespace mpmdem::dem

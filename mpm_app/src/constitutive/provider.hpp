@@ -1,0 +1,43 @@
+// Constitutive providers: the one interface through which the MPM gets stresses.
+// A provider owns whatever state its points need (local: the stress; remote: RVEs on the
+// DEM server) and is called once per step with the whole batch, so a remote provider
+// makes one exchange per step.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace mpmdem::mpm {
+
+using Mat3 = Eigen::Matrix3d;
+
+// Per-point results of one update. Optional fields are filled only when the scene asks.
+struct PointResponse {
+  Mat3 stress = Mat3::Zero();  // Cauchy, tension positive [Pa]
+  double stiffness = 0.0;      // constrained modulus estimate for the CFL step [Pa]
+  Eigen::Vector3d rotation = Eigen::Vector3d::Zero();  // mean particle rotation [rad]
+  double porosity = 0.0;
+  double coordination = 0.0;
+  double unbalanced_force = 0.0;
+  std::int32_t status = 0;  // protocol::RveStatus
+};
+
+class ConstitutiveProvider {
+ public:
+  virtual ~ConstitutiveProvider() = default;
+  virtual std::string name() const = 0;
+  // Set the starting stress of every point (e.g. geostatic) and get the first response.
+  virtual void initialise(const std::vector<Mat3>& initial_stress,
+                          std::vector<PointResponse>& out) = 0;
+  // Apply one incremental deformation gradient per point over dt.
+  virtual void update(const std::vector<Mat3>& dF, double dt, std::int64_t step, double time,
+                      std::vector<PointResponse>& out) = 0;
+  // Ask the provider to save its state under dir (remote: the servers do it).
+  virtual void checkpoint(const std::string& dir, std::int64_t step) { (void)dir; (void)step; }
+  // Orderly end (remote: shutdown message).
+  virtual void finish() {}
+};
+
+}  // namespace mpmdem::mpm

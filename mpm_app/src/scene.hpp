@@ -1,0 +1,126 @@
+// The validated scene: what the config file says, in SI units, as plain structs.
+// Filled by config/scene_loader.cpp from a config that already passed the schema
+// (config/scene_schema.cpp), so everything here is in range and consistent.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace mpmdem::mpm {
+
+using Vec3 = Eigen::Vector3d;
+
+// Background grid: a regular hexahedral lattice of cubic cells.
+struct GridParams {
+  Vec3 origin = Vec3::Zero();  // lower corner of the domain [m]
+  Vec3 extent = Vec3::Ones();  // domain size [m]; rounded up to whole cells
+  double cell_size = 0.05;     // [m]
+};
+
+// Box region filled with material points, n per cell per direction.
+struct RegionParams {
+  std::string name;
+  Vec3 min = Vec3::Zero();
+  Vec3 max = Vec3::Ones();
+  int points_per_cell = 2;                     // per direction
+  double density = 2000.0;                     // [kg/m^3]
+  Vec3 velocity = Vec3::Zero();                // initial velocity [m/s]
+  // Optional first-mode velocity profile v(x) = amplitude * sin(pi/2 * (x_a - x0)/L)
+  // along `axis`, used by the vibrating-bar scene (fixed at x0, free at x0 + L).
+  bool sine_velocity = false;
+  int sine_axis = 0;
+  double sine_amplitude = 0.0;
+  // Initial stress: none, or geostatic (sigma_v = -rho g depth, sigma_h = K0 sigma_v)
+  // measured from the region's top surface along gravity.
+  bool geostatic = false;
+  double k0 = 1.0;
+};
+
+// What happens on one face of the domain box.
+enum class WallType { kFree, kFixed, kSlip, kFriction };
+struct WallParams {
+  WallType type = WallType::kFree;
+  double friction = 0.0;  // Coulomb coefficient for kFriction
+};
+// Faces in the order x_min, x_max, y_min, y_max, z_min, z_max.
+using Walls = std::array<WallParams, 6>;
+
+// Prescribed velocity component on grid nodes inside a box, held until released.
+struct VelocityConstraintParams {
+  std::string name;
+  Vec3 min = Vec3::Zero();
+  Vec3 max = Vec3::Zero();
+  std::array<bool, 3> components{{false, false, false}};  // which components are held
+  Vec3 value = Vec3::Zero();                               // held value [m/s]
+  // Release: at a time, or when E_k / E_p0 falls below a ratio after min_time, or never.
+  std::optional<double> release_time;
+  std::optional<double> release_kinetic_ratio;
+  double release_min_time = 0.0;
+};
+
+enum class Scheme { kUSL, kMUSL };
+enum class ShapeKind { kLinear, kQuadraticBSpline };
+enum class OnExit { kError, kRemove };
+
+struct SolverParams {
+  Scheme scheme = Scheme::kMUSL;
+  ShapeKind shape = ShapeKind::kLinear;
+  double flip = 0.99;          // FLIP fraction of the PIC/FLIP blend (1 = pure FLIP)
+  double cfl = 0.5;            // Courant number
+  double dt_max = 1e-3;        // cap on the automatic step [s]
+  double end_time = 1.0;       // [s]
+  Vec3 gravity{0.0, 0.0, -9.81};
+  double local_damping = 0.0;  // Cundall non-viscous damping coefficient on grid forces
+  OnExit on_exit = OnExit::kError;
+  int threads = 0;             // 0: OpenMP default
+};
+
+enum class ModelKind { kLinearElastic, kRemote };
+struct ConstitutiveParams {
+  ModelKind model = ModelKind::kLinearElastic;
+  double youngs_modulus = 1e7;  // linear_elastic [Pa]
+  double poisson_ratio = 0.3;   // linear_elastic [-]
+};
+
+// The shared section both programs read (hashed in the handshake).
+struct CouplingParams {
+  std::string backend = "elastic";
+  std::uint32_t outputs = 0;       // protocol::OutputBits
+  std::string service_name = "mpmdem";
+  double connect_timeout_s = 60.0;
+  std::string canonical_text;      // canonical form of the whole section
+  std::uint64_t hash = 0;          // fnv1a64(canonical_text)
+};
+
+struct OutputParams {
+  double interval = 0.0;     // simulated time between VTK frames [s]; 0: first and last only
+  double energy_interval = 0.0;  // between energy CSV rows [s]; 0: every step
+  bool vtk = true;
+  bool hdf5 = true;
+  double progress_interval_s = 2.0;  // wall time between progress lines
+};
+
+enum class VerificationKind { kNone, kElasticColumn, kBarVibration };
+struct VerificationParams {
+  VerificationKind kind = VerificationKind::kNone;
+};
+
+struct Scene {
+  std::string name;
+  std::string source_file;
+  GridParams grid;
+  std::vector<RegionParams> regions;
+  Walls walls;
+  std::vector<VelocityConstraintParams> constraints;
+  SolverParams solver;
+  ConstitutiveParams constitutive;
+  CouplingParams coupling;
+  OutputParams output;
+  VerificationParams verification;
+};
+
+}  // namespace mpmdem::mpm

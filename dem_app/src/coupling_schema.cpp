@@ -1,1 +1,88 @@
-// PLACEHOLDER: being written.
+// The shared `coupling:` section: connection, requested per-RVE outputs, and the settings of
+// each DEM backend. Declared once; mpm_app's scene schema and dem_app both include it.
+#include "coupling_schema.hpp"
+
+#include "mpmdem/protocol.hpp"
+#include "yade_schema.hpp"
+
+namespace mpmdem {
+
+using config::key;
+using config::Type;
+
+namespace {
+// Output names in the order of their protocol::OutputBits.
+const char* const kOutputNames[] = {"rotation", "porosity", "coordination", "unbalanced_force"};
+static_assert(sizeof(kOutputNames) / sizeof(kOutputNames[0]) == 4);
+}  // namespace
+
+void add_coupling_keys(config::Schema& s) {
+  s.add(key("coupling", Type::kMap, "",
+            "settings shared by mpm_app and dem_app (needed by constitutive.model remote); "
+            "both programs hash this section, defaults filled in, and refuse to couple when "
+            "the hashes differ"));
+  s.add(key("coupling.backend", Type::kEnum, "", "RVE backend the DEM server must run")
+            .def("elastic")
+            .one_of({"elastic", "yade"}));
+  s.add(key("coupling.outputs", Type::kStringList, "",
+            "per-RVE outputs the server computes and returns (only these)")
+            .def("[]")
+            .one_of({kOutputNames[0], kOutputNames[1], kOutputNames[2], kOutputNames[3]}));
+  s.add(key("coupling.service_name", Type::kString, "",
+            "name the server publishes its MPI port under (ompi-server)")
+            .def("mpmdem"));
+  s.add(key("coupling.connect_timeout_s", Type::kDouble, "s",
+            "how long mpm_app waits for the server before giving up")
+            .def("60")
+            .gt(0));
+  s.add(key("coupling.port_file", Type::kString, "",
+            "file holding the server's MPI port name, relative to the run directory; "
+            "removed when the server closes")
+            .def("dem_port.txt"));
+  s.add(key("coupling.elastic", Type::kMap, "",
+            "material of the elastic stub backend (required when backend is elastic)"));
+  s.add(key("coupling.elastic.youngs_modulus", Type::kDouble, "Pa", "Young's modulus E")
+            .req()
+            .gt(0));
+  s.add(key("coupling.elastic.poisson_ratio", Type::kDouble, "-", "Poisson's ratio nu")
+            .req()
+            .ge(0)
+            .lt(0.5));
+  add_yade_keys(s);
+}
+
+const config::Schema& coupling_schema() {
+  static const config::Schema schema = [] {
+    config::Schema s;
+    add_coupling_keys(s);
+    return s;
+  }();
+  return schema;
+}
+
+std::string coupling_canonical_text(const config::Config& cfg) {
+  return cfg.canonical_text("coupling");
+}
+
+std::uint32_t coupling_output_bits(const config::Config& cfg) {
+  std::uint32_t bits = 0;
+  for (const std::string& name : cfg.strings("coupling.outputs")) {
+    for (std::uint32_t i = 0; i < 4; ++i) {
+      if (name == kOutputNames[i]) bits |= 1u << i;
+    }
+  }
+  static_assert(protocol::kOutputRotation == 1u << 0 && protocol::kOutputPorosity == 1u << 1 &&
+                protocol::kOutputCoordination == 1u << 2 &&
+                protocol::kOutputUnbalancedForce == 1u << 3 && protocol::kKnownOutputs == 0xFu);
+  return bits;
+}
+
+void check_coupling(const config::Config& cfg) {
+  if (cfg.string("coupling.backend") == "elastic" && !cfg.has("coupling.elastic")) {
+    cfg.fail("coupling.backend",
+             "is elastic but the section coupling.elastic (youngs_modulus, poisson_ratio) is "
+             "missing");
+  }
+}
+
+}  // namespace mpmdem

@@ -3,6 +3,9 @@
 // defaults filled in, so a server started with other coupling settings is refused.
 #pragma once
 
+#include <cstdint>
+#include <string>
+
 #include "mpmdem/config/schema.hpp"
 
 namespace mpmdem {
@@ -11,5 +14,15 @@ namespace mpmdem {
 void add_coupling_keys(config::Schema& schema);
 // `config_version` + the `coupling:` section: what dem_app validates.
 const config::Schema& coupling_schema();
+
+// Canonical text of the `coupling:` section with schema defaults filled in: what both sides
+// hash for the handshake (Hello::config_hash = fnv1a64(coupling_canonical_text(cfg))).
+// `cfg` is a top-level Config loaded with a schema that includes add_coupling_keys().
+std::string coupling_canonical_text(const config::Config& cfg);
+// coupling.outputs as protocol::OutputBits.
+std::uint32_t coupling_output_bits(const config::Config& cfg);
+// Cross-key checks of the section (e.g. backend elastic needs coupling.elastic); throws
+// config::ConfigError naming the key, file and line.
+void check_coupling(const config::Config& cfg);
 
 }  // namespace mpmdem

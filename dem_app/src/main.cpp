@@ -1,1 +1,146 @@
-int main() { return 1; }  // PLACEHOLDER
+// dem_app: the RVE server. Reads only `config_version` and the `coupling:` section of the
+// scene, opens an MPI port, serves one mpm_app until it shuts down.
+//
+//   mpirun --ompi-server file:URI -np N dem_app --backend elastic|yade --scene FILE
+//          --run-dir DIR [--restore CHECKPOINT_DIR] [--timeout S]
+//
+// Exit codes: 0 after an orderly shutdown, 2 config/command-line error, 3 handshake
+// refused, 4 no client / MPI failure / client aborted.
+#include <mpi.h>
+
+#include <cstdlib>
+#include <exception>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <string>
+
+#include "backend_factory.hpp"
+#include "coupling_schema.hpp"
+#include "mpmdem/config_hash.hpp"
+#include "mpmdem/connection.hpp"
+#include "mpmdem/errors.hpp"
+#include "server_loop.hpp"
+
+namespace {
+
+constexpr const char* kUsage =
+    "usage: dem_app --backend elastic|yade --scene FILE --run-dir DIR\n"
+    "               [--restore CHECKPOINT_DIR] [--timeout S]\n"
+    "  --backend   RVE backend; must equal coupling.backend of the scene\n"
+    "  --scene     scene YAML; only config_version and coupling: are read\n"
+    "  --run-dir   run directory shared with mpm_app (--out): the port file goes there\n"
+    "  --restore   start the RVEs from a checkpoint directory instead of kInitialise\n"
+    "  --timeout   seconds to wait for mpm_app (default coupling.connect_timeout_s)\n"
+    "Run under mpirun with the same --ompi-server file:URI as mpm_app (see docs/protocol.md).\n";
+
+struct Args {
+  std::string backend, scene, run_dir, restore;
+  std::optional<double> timeout;
+};
+
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+Args parse(int argc, char** argv) {
+  Args a;
+  for (int i = 1; i < argc; ++i) {
+    const std::string key = argv[i];
+    if (key == "--help" || key == "-h") {
+      std::cout << kUsage;
+      std::exit(0);
+    }
+    if (i + 1 >= argc) throw UsageError("missing value after " + key);
+    const std::string value = argv[++i];
+    if (key == "--backend") {
+      a.backend = value;
+    } else if (key == "--scene") {
+      a.scene = value;
+    } else if (key == "--run-dir") {
+      a.run_dir = value;
+    } else if (key == "--restore") {
+      a.restore = value;
+    } else if (key == "--timeout") {
+      char* end = nullptr;
+      const double t = std::strtod(value.c_str(), &end);
+      if (end == value.c_str() || *end != '\0' || !(t > 0.0)) {
+        throw UsageError("--timeout must be a number of seconds > 0, got '" + value + "'");
+      }
+      a.timeout = t;
+    } else {
+      throw UsageError("unknown option '" + key + "'");
+    }
+  }
+  if (a.backend.empty()) throw UsageError("--backend is required");
+  if (a.scene.empty()) throw UsageError("--scene is required");
+  if (a.run_dir.empty()) throw UsageError("--run-dir is required");
+  return a;
+}
+
+int run(int argc, char** argv, int rank) {
+  const bool root = rank == 0;
+  Args args;
+  std::optional<mpmdem::config::Config> cfg;
+  try {
+    args = parse(argc, argv);
+    cfg = mpmdem::config::Config::load(args.scene, mpmdem::coupling_schema(), "coupling");
+    mpmdem::check_coupling(*cfg);
+    const std::string scene_backend = cfg->string("coupling.backend");
+    if (scene_backend != args.backend) {
+      throw UsageError("--backend " + args.backend + " differs from coupling.backend '" +
+                       scene_backend + "' in " + args.scene + " (line " +
+                       std::to_string(cfg->line("coupling.backend")) +
+                       "); start dem_app with --backend " + scene_backend);
+    }
+    std::error_code ec;
+    std::filesystem::create_directories(args.run_dir, ec);
+    if (!std::filesystem::is_directory(args.run_dir)) {
+      throw UsageError("--run-dir " + args.run_dir + " is not a directory and cannot be created");
+    }
+  } catch (const UsageError& e) {
+    if (root) std::cerr << "dem_app: error: " << e.what() << "\n" << kUsage;
+    return mpmdem::kExitConfigError;
+  } catch (const mpmdem::config::ConfigError& e) {
+    if (root) std::cerr << "dem_app: config error: " << e.what() << "\n";
+    return mpmdem::kExitConfigError;
+  }
+
+  mpmdem::dem::ServerOptions opts;
+  opts.backend = args.backend;
+  opts.outputs = mpmdem::dem::backend_outputs(args.backend);
+  opts.config_hash = mpmdem::fnv1a64(mpmdem::coupling_canonical_text(*cfg));
+  opts.run_dir = std::filesystem::absolute(args.run_dir);
+  opts.restore_dir = args.restore;
+  opts.connect.service_name = cfg->string("coupling.service_name");
+  opts.connect.port_file = opts.run_dir / cfg->string("coupling.port_file");
+  opts.connect.timeout_s = args.timeout.value_or(cfg->number("coupling.connect_timeout_s"));
+  opts.connect.config_file = args.scene;
+
+  const auto& config = *cfg;
+  return mpmdem::dem::serve(opts, [&](const mpmdem::dem::BackendContext& ctx) {
+    return mpmdem::dem::make_backend(args.backend, config, ctx);
+  });
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int rank = 0;
+  try {
+    mpmdem::MpiSession mpi(&argc, &argv, MPI_THREAD_FUNNELED);
+    rank = mpi.rank();
+    try {
+      return run(argc, argv, rank);
+    } catch (const mpmdem::HandshakeError& e) {
+      if (rank == 0) std::cerr << "dem_app: error: " << e.what() << "\n";
+      return mpmdem::kExitHandshakeError;
+    } catch (const mpmdem::PeerError& e) {
+      if (rank == 0) std::cerr << "dem_app: error: " << e.what() << "\n";
+      return mpmdem::kExitPeerError;
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "dem_app: rank " << rank << ": fatal error: " << e.what() << "\n";
+    return 1;
+  }
+}

@@ -1,1 +1,162 @@
-// PLACEHOLDER: being written.
+// The RVE server loop: see server_loop.hpp.
+#include "server_loop.hpp"
+
+#include <chrono>
+#include <cstring>
+#include <exception>
+#include <iostream>
+#include <vector>
+
+#include "mpmdem/errors.hpp"
+#include "mpmdem/exchange.hpp"
+
+namespace mpmdem::dem {
+
+using protocol::ControlHeader;
+using protocol::MessageKind;
+using protocol::RankReport;
+using protocol::RveReply;
+using protocol::RveStatus;
+
+namespace {
+
+double now_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+RankReport make_report(int rank) {
+  RankReport r;
+  std::memset(&r, 0, sizeof r);
+  r.rank = rank;
+  r.first_fault_rve = -1;
+  return r;
+}
+
+void set_error(RankReport& r, const std::string& message) {
+  r.status = static_cast<std::int32_t>(RveStatus::kBackendError);
+  std::memset(r.message, 0, sizeof r.message);
+  std::memcpy(r.message, message.data(), std::min(message.size(), sizeof r.message - 1));
+}
+
+// Status of the rank = the first fatal RVE status, else the first non-zero one.
+void summarise(const std::vector<RveReply>& replies, std::uint64_t first_rve, RankReport& r) {
+  for (std::size_t i = 0; i < replies.size(); ++i) {
+    const std::int32_t s = replies[i].status;
+    if (s == 0) continue;
+    ++r.n_faults;
+    if (r.first_fault_rve < 0) r.first_fault_rve = static_cast<std::int32_t>(first_rve + i);
+    if (r.status == 0 || (!is_fatal(r.status) && is_fatal(s))) {
+      r.status = s;
+      if (is_fatal(s)) r.first_fault_rve = static_cast<std::int32_t>(first_rve + i);
+    }
+  }
+}
+
+void fail_all(std::vector<RveReply>& replies) {
+  for (auto& reply : replies) {
+    std::memset(&reply, 0, sizeof reply);
+    reply.status = static_cast<std::int32_t>(RveStatus::kBackendError);
+  }
+}
+
+}  // namespace
+
+int serve(const ServerOptions& opts, const BackendMaker& make_backend) {
+  // F_INIT: connect, agree, set up this rank's RVEs.
+  RveServerChannel channel;
+  HelloFields hello;
+  hello.program = "dem_app";
+  hello.backend = opts.backend;
+  hello.n_rve = 0;  // the client's count is authoritative
+  hello.outputs = opts.outputs;
+  hello.config_hash = opts.config_hash;
+  channel.accept(opts.connect, hello);
+  const bool root = channel.rank() == 0;
+
+  BackendContext ctx;
+  ctx.first_rve = channel.my_partition().offset;
+  ctx.n_rve = channel.my_partition().count;
+  ctx.outputs = channel.handshake().client.outputs;
+  ctx.rank = channel.rank();
+  ctx.run_dir = opts.run_dir;
+  if (root) {
+    std::cerr << "dem_app: connected; serving " << channel.n_rve() << " RVEs on "
+              << channel.ranks() << " rank(s) with backend '" << opts.backend << "'"
+              << std::endl;
+  }
+
+  // A failing set-up is reported on every exchange, so the client aborts with the reason.
+  std::string setup_error;
+  std::unique_ptr<RveBackend> backend;
+  try {
+    backend = make_backend(ctx);
+    backend->setup(ctx);
+    if (!opts.restore_dir.empty()) backend->restore(opts.restore_dir);
+  } catch (const std::exception& e) {
+    setup_error = "rank " + std::to_string(ctx.rank) + " backend set-up failed: " + e.what();
+  }
+
+  std::vector<protocol::RveInit> init;
+  std::vector<protocol::RveRequest> requests;
+  std::vector<RveReply> replies(ctx.n_rve);
+  ControlHeader header;
+  std::int64_t steps = 0;
+  while (channel.next(header)) {
+    RankReport report = make_report(ctx.rank);
+    const auto kind = static_cast<MessageKind>(header.kind);
+    // O_I: this rank's part of the payload.
+    if (kind == MessageKind::kInitialise) channel.receive(init);
+    if (kind == MessageKind::kStep) channel.receive(requests);
+
+    // S: compute.
+    const double t0 = now_s();
+    if (!setup_error.empty()) {
+      fail_all(replies);
+      set_error(report, setup_error);
+    } else {
+      try {
+        if (kind == MessageKind::kInitialise) {
+          backend->initialise(init.data(), replies.data());
+        } else if (kind == MessageKind::kStep) {
+          backend->step(header, requests.data(), replies.data());
+          ++steps;
+        } else if (kind == MessageKind::kCheckpoint) {
+          std::filesystem::path dir = header.path;
+          if (dir.is_relative()) dir = opts.run_dir / dir;
+          std::error_code ec;
+          std::filesystem::create_directories(dir, ec);
+          backend->checkpoint(dir);
+        }
+        summarise(replies, ctx.first_rve, report);
+      } catch (const std::exception& e) {
+        fail_all(replies);
+        set_error(report, std::string(backend->name()) + " backend: " + e.what());
+      }
+    }
+    report.compute_s = now_s() - t0;
+
+    // O_F: answer.
+    if (kind == MessageKind::kCheckpoint) {
+      channel.send_report(report);
+    } else {
+      channel.send(replies, report);
+    }
+  }
+
+  // Shutdown or Abort: both sides disconnect.
+  const bool aborted = channel.aborted();
+  const std::string why = channel.abort_message();
+  channel.close();
+  if (root) {
+    if (aborted) {
+      std::cerr << "dem_app: mpm_app aborted the run: " << (why.empty() ? "(no reason given)" : why)
+                << std::endl;
+    } else {
+      std::cerr << "dem_app: shutdown after " << steps << " steps" << std::endl;
+    }
+  }
+  return aborted ? kExitPeerError : 0;
+}
+
+}  // namespace mpmdem::dem

@@ -1,1 +1,333 @@
-// PLACEHOLDER: being written.
+// Exchanges over the intercommunicator: see exchange.hpp and docs/protocol.md.
+#include "mpmdem/exchange.hpp"
+
+#include <algorithm>
+#include <cassert>
+#include <chrono>
+#include <climits>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <iostream>
+#include <sstream>
+
+#include "mpmdem/errors.hpp"
+
+namespace mpmdem {
+
+using protocol::ControlHeader;
+using protocol::MessageKind;
+using protocol::RankReport;
+using protocol::RveInit;
+using protocol::RveReply;
+using protocol::RveRequest;
+using protocol::RveStatus;
+
+bool is_fatal(std::int32_t s) {
+  return s != static_cast<std::int32_t>(RveStatus::kOk) &&
+         s != static_cast<std::int32_t>(RveStatus::kNoContacts);
+}
+
+std::string status_name(std::int32_t s) {
+  switch (static_cast<RveStatus>(s)) {
+    case RveStatus::kOk: return "ok";
+    case RveStatus::kNoContacts: return "no contacts";
+    case RveStatus::kNonFinite: return "non-finite values";
+    case RveStatus::kExploding: return "exploding kinetic energy";
+    case RveStatus::kBackendError: return "backend error";
+  }
+  return "unknown status " + std::to_string(s);
+}
+
+// ---------------------------------------------------------------------------------------
+namespace {
+
+MPI_Datatype contiguous_bytes(std::size_t n) {
+  MPI_Datatype t = MPI_DATATYPE_NULL;
+  MPMDEM_CHECK_MPI(MPI_Type_contiguous(static_cast<int>(n), MPI_BYTE, &t));
+  MPMDEM_CHECK_MPI(MPI_Type_commit(&t));
+  return t;
+}
+
+void free_type(MPI_Datatype& t) {
+  int finalised = 0;
+  MPI_Finalized(&finalised);
+  if (t != MPI_DATATYPE_NULL && !finalised) MPI_Type_free(&t);
+  t = MPI_DATATYPE_NULL;
+}
+
+double now_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+}  // namespace
+
+PayloadTypes::~PayloadTypes() {
+  free_type(init);
+  free_type(request);
+  free_type(reply);
+  free_type(report);
+}
+
+void PayloadTypes::create() {
+  if (init != MPI_DATATYPE_NULL) return;
+  init = contiguous_bytes(sizeof(RveInit));
+  request = contiguous_bytes(sizeof(RveRequest));
+  reply = contiguous_bytes(sizeof(RveReply));
+  report = contiguous_bytes(sizeof(RankReport));
+}
+
+// ---------------------------------------------------------------------------------------
+// Client
+RveClient::~RveClient() {
+  if (connected()) abort("mpm_app ended without an orderly shutdown");
+}
+
+void RveClient::require_connected(const char* what) const {
+  if (!connected()) throw PeerError(std::string("RveClient::") + what + " called while not connected");
+}
+
+void RveClient::connect(const ConnectOptions& opts, HelloFields hello) {
+  if (connected()) throw PeerError("RveClient::connect called twice");
+  conn_ = Connection::connect(opts);
+  types_.create();
+  hello.n_partitions = conn_.remote_size();
+  if (hello.program.empty()) hello.program = "mpm_app";
+  try {
+    hs_ = exchange_hello(conn_.intercomm(), true, make_hello(hello), opts.config_file);
+  } catch (const HandshakeError&) {
+    conn_.disconnect();
+    throw;
+  }
+  if (auto note = minor_version_note(hs_.client, hs_.server)) std::cerr << "mpm_app: " << *note << '\n';
+  n_rve_ = hello.n_rve;
+  if (n_rve_ > static_cast<std::uint64_t>(INT_MAX)) {
+    conn_.abandon();
+    throw PeerError("too many RVEs for one coupling (" + std::to_string(n_rve_) +
+                    " > 2^31-1): MPI counts are int");
+  }
+  parts_ = partition_contiguous(n_rve_, conn_.remote_size());
+  counts_.clear();
+  displs_.clear();
+  for (const auto& p : parts_) {
+    counts_.push_back(static_cast<int>(p.count));
+    displs_.push_back(static_cast<int>(p.offset));
+  }
+}
+
+void RveClient::send_header(const ControlHeader& header) {
+  ControlHeader h = header;
+  const int root_arg = root() ? MPI_ROOT : MPI_PROC_NULL;
+  try {
+    MPMDEM_CHECK_MPI(MPI_Bcast(&h, sizeof h, MPI_BYTE, root_arg, conn_.intercomm()));
+  } catch (...) {
+    broken_ = true;
+    throw;
+  }
+}
+
+template <class T>
+void RveClient::scatter(const std::vector<T>& items, MPI_Datatype type) {
+  if (root() && items.size() != n_rve_) {
+    throw PeerError("coupling exchange got " + std::to_string(items.size()) +
+                    " items for " + std::to_string(n_rve_) + " RVEs");
+  }
+  const int root_arg = root() ? MPI_ROOT : MPI_PROC_NULL;
+  try {
+    MPMDEM_CHECK_MPI(MPI_Scatterv(items.data(), counts_.data(), displs_.data(), type, nullptr,
+                                  0, type, root_arg, conn_.intercomm()));
+  } catch (...) {
+    broken_ = true;
+    throw;
+  }
+}
+
+void RveClient::gather(std::vector<RveReply>& replies) {
+  replies.resize(n_rve_);
+  const int root_arg = root() ? MPI_ROOT : MPI_PROC_NULL;
+  try {
+    MPMDEM_CHECK_MPI(MPI_Gatherv(nullptr, 0, types_.reply, replies.data(), counts_.data(),
+                                 displs_.data(), types_.reply, root_arg, conn_.intercomm()));
+  } catch (...) {
+    broken_ = true;
+    throw;
+  }
+}
+
+void RveClient::gather_reports(const char* what) {
+  reports_.resize(static_cast<std::size_t>(conn_.remote_size()));
+  const int root_arg = root() ? MPI_ROOT : MPI_PROC_NULL;
+  try {
+    MPMDEM_CHECK_MPI(MPI_Gather(nullptr, 0, types_.report, reports_.data(), 1, types_.report,
+                                root_arg, conn_.intercomm()));
+  } catch (...) {
+    broken_ = true;
+    throw;
+  }
+  timing_.max_compute_s = 0.0;
+  for (const auto& r : reports_) timing_.max_compute_s = std::max(timing_.max_compute_s, r.compute_s);
+  for (std::size_t i = 0; i < reports_.size(); ++i) {
+    const RankReport& r = reports_[i];
+    if (!is_fatal(r.status)) continue;
+    std::ostringstream msg;
+    msg << "DEM server rank " << i << " failed during " << what << ": "
+        << status_name(r.status);
+    if (r.first_fault_rve >= 0) msg << " at RVE " << r.first_fault_rve;
+    if (r.n_faults > 1) msg << " (" << r.n_faults << " faulty RVEs on that rank)";
+    const std::string detail(r.message, strnlen(r.message, sizeof r.message));
+    if (!detail.empty()) msg << ": " << detail;
+    throw PeerError(msg.str());
+  }
+}
+
+std::vector<RveReply> RveClient::initialise(const std::vector<RveInit>& init) {
+  require_connected("initialise");
+  const double t0 = now_s();
+  ControlHeader h{};
+  h.kind = static_cast<std::int32_t>(MessageKind::kInitialise);
+  send_header(h);
+  scatter(init, types_.init);
+  std::vector<RveReply> replies;
+  gather(replies);
+  gather_reports("initialise");
+  timing_.exchange_s = now_s() - t0;
+  return replies;
+}
+
+std::vector<RveReply> RveClient::step(ControlHeader header,
+                                      const std::vector<RveRequest>& requests) {
+  std::vector<RveReply> replies;
+  step(header, requests, replies);
+  return replies;
+}
+
+void RveClient::step(ControlHeader header, const std::vector<RveRequest>& requests,
+                     std::vector<RveReply>& replies) {
+  require_connected("step");
+  const double t0 = now_s();
+  header.kind = static_cast<std::int32_t>(MessageKind::kStep);
+  send_header(header);
+  scatter(requests, types_.request);
+  gather(replies);
+  gather_reports("step");
+  timing_.exchange_s = now_s() - t0;
+}
+
+void RveClient::checkpoint(const std::string& path, std::int64_t step) {
+  require_connected("checkpoint");
+  ControlHeader h{};
+  if (path.size() >= sizeof h.path) {
+    throw PeerError("checkpoint path longer than " + std::to_string(sizeof h.path - 1) +
+                    " characters: " + path);
+  }
+  const double t0 = now_s();
+  h.kind = static_cast<std::int32_t>(MessageKind::kCheckpoint);
+  h.step = step;
+  std::memcpy(h.path, path.data(), path.size());
+  send_header(h);
+  gather_reports("checkpoint");
+  timing_.exchange_s = now_s() - t0;
+}
+
+void RveClient::shutdown() {
+  if (!connected()) return;
+  ControlHeader h{};
+  h.kind = static_cast<std::int32_t>(MessageKind::kShutdown);
+  send_header(h);
+  conn_.disconnect();
+}
+
+void RveClient::abort(const std::string& message) noexcept {
+  if (!connected()) return;
+  if (broken_) {  // the intercommunicator failed: do not wait on it
+    conn_.abandon();
+    return;
+  }
+  Watchdog watchdog(10.0, [] {
+    std::fprintf(stderr, "mpm_app: DEM server did not acknowledge the abort within 10 s\n");
+    std::fflush(stderr);
+    std::_Exit(kExitPeerError);
+  });
+  try {
+    ControlHeader h{};
+    h.kind = static_cast<std::int32_t>(MessageKind::kAbort);
+    std::memcpy(h.path, message.data(), std::min(message.size(), sizeof h.path - 1));
+    send_header(h);
+    conn_.disconnect();
+  } catch (...) {
+    conn_.abandon();
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// Server
+void RveServerChannel::accept(const ConnectOptions& opts, HelloFields hello) {
+  conn_ = Connection::accept(opts, MPI_COMM_WORLD);
+  types_.create();
+  hello.n_partitions = conn_.local_size();
+  if (hello.program.empty()) hello.program = "dem_app";
+  try {
+    hs_ = exchange_hello(conn_.intercomm(), false, make_hello(hello), opts.config_file);
+  } catch (const HandshakeError&) {
+    conn_.disconnect();
+    throw;
+  }
+  if (conn_.local_rank() == 0) {
+    if (auto note = minor_version_note(hs_.client, hs_.server)) std::cerr << "dem_app: " << *note << '\n';
+  }
+  n_rve_ = hs_.client.n_rve;
+  mine_ = partition_contiguous(n_rve_, conn_.local_size())[static_cast<std::size_t>(conn_.local_rank())];
+}
+
+bool RveServerChannel::next(ControlHeader& header) {
+  std::memset(&header, 0, sizeof header);
+  MPMDEM_CHECK_MPI(MPI_Bcast(&header, sizeof header, MPI_BYTE, 0, conn_.intercomm()));
+  header.path[sizeof header.path - 1] = '\0';
+  switch (static_cast<MessageKind>(header.kind)) {
+    case MessageKind::kInitialise:
+    case MessageKind::kStep:
+    case MessageKind::kCheckpoint:
+      return true;
+    case MessageKind::kShutdown:
+      return false;
+    case MessageKind::kAbort:
+      aborted_ = true;
+      abort_message_ = header.path;
+      return false;
+    case MessageKind::kHello:
+      break;
+  }
+  throw PeerError("unexpected message kind " + std::to_string(header.kind) +
+                  " from the client (protocol violation)");
+}
+
+void RveServerChannel::receive(std::vector<RveInit>& init) {
+  init.resize(mine_.count);
+  MPMDEM_CHECK_MPI(MPI_Scatterv(nullptr, nullptr, nullptr, types_.init, init.data(),
+                                static_cast<int>(mine_.count), types_.init, 0,
+                                conn_.intercomm()));
+}
+
+void RveServerChannel::receive(std::vector<RveRequest>& requests) {
+  requests.resize(mine_.count);
+  MPMDEM_CHECK_MPI(MPI_Scatterv(nullptr, nullptr, nullptr, types_.request, requests.data(),
+                                static_cast<int>(mine_.count), types_.request, 0,
+                                conn_.intercomm()));
+}
+
+void RveServerChannel::send(const std::vector<RveReply>& replies, const RankReport& report) {
+  assert(replies.size() == mine_.count);
+  MPMDEM_CHECK_MPI(MPI_Gatherv(replies.data(), static_cast<int>(mine_.count), types_.reply,
+                               nullptr, nullptr, nullptr, types_.reply, 0, conn_.intercomm()));
+  send_report(report);
+}
+
+void RveServerChannel::send_report(const RankReport& report) {
+  MPMDEM_CHECK_MPI(MPI_Gather(&report, 1, types_.report, nullptr, 0, types_.report, 0,
+                              conn_.intercomm()));
+}
+
+void RveServerChannel::close() { conn_.disconnect(); }
+
+}  // namespace mpmdem

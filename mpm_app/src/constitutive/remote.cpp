@@ -1,1 +1,123 @@
-// PLACEHOLDER: being written.
+// The `remote` provider: every material point is an RVE on the DEM server (dem_app),
+// reached over MPI ports through mpmdem::RveClient. One exchange per MPM step.
+#include "constitutive/remote.hpp"
+
+#include <cstring>
+#include <exception>
+#include <filesystem>
+#include <iostream>
+
+#include "coupling_schema.hpp"
+
+#include "mpmdem/exchange.hpp"
+
+namespace mpmdem::mpm {
+
+namespace {
+
+using RowMajor3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
+
+// coupling.port_file (relative to the run directory). Scene::coupling does not carry it
+// yet, so read it from the scene's own coupling section (already validated).
+std::string port_file_name(const Scene& scene) {
+  const std::string fallback = "dem_port.txt";
+  if (scene.source_file.empty()) return fallback;
+  try {
+    const auto cfg = config::Config::load(scene.source_file, coupling_schema(), "coupling");
+    return cfg.string("coupling.port_file");
+  } catch (const std::exception&) {
+    return fallback;
+  }
+}
+
+class RemoteProvider : public ConstitutiveProvider {
+ public:
+  RemoteProvider(const Scene& scene, std::size_t n_points, const std::string& run_dir) {
+    ConnectOptions opts;
+    opts.service_name = scene.coupling.service_name;
+    opts.port_file = std::filesystem::path(run_dir) / port_file_name(scene);
+    opts.timeout_s = scene.coupling.connect_timeout_s;
+    opts.config_file = scene.source_file;
+    HelloFields hello;
+    hello.program = "mpm_app";
+    hello.backend = scene.coupling.backend;
+    hello.n_rve = n_points;
+    hello.outputs = scene.coupling.outputs;
+    hello.config_hash = scene.coupling.hash;
+    client_.connect(opts, hello);
+    std::cerr << "mpm_app: connected to dem_app (backend '" << scene.coupling.backend << "', "
+              << client_.server_ranks() << " rank(s), " << n_points << " RVEs)" << std::endl;
+  }
+
+  // An exception in the solver unwinds through here: tell the server to stop.
+  ~RemoteProvider() override {
+    if (client_.connected()) client_.abort("mpm_app stopped before the end of the run");
+  }
+
+  std::string name() const override { return "remote"; }
+
+  void initialise(const std::vector<Mat3>& initial_stress,
+                  std::vector<PointResponse>& out) override {
+    std::vector<protocol::RveInit> init(initial_stress.size());
+    for (std::size_t p = 0; p < init.size(); ++p) {
+      Eigen::Map<RowMajor3>(init[p].stress) = initial_stress[p];
+    }
+    to_responses(client_.initialise(init), out);
+  }
+
+  void update(const std::vector<Mat3>& dF, double dt, std::int64_t step, double time,
+              std::vector<PointResponse>& out) override {
+    requests_.resize(dF.size());
+    for (std::size_t p = 0; p < dF.size(); ++p) {
+      protocol::RveRequest& r = requests_[p];
+      Eigen::Map<RowMajor3>(r.dF) = dF[p];  // row-major: dF[3*i + j] = dF_ij
+      r.dt = dt;
+      r.flags = 0;
+      r.reserved = 0;
+    }
+    protocol::ControlHeader header;
+    std::memset(&header, 0, sizeof header);
+    header.step = step;
+    header.time = time;
+    header.dt = dt;
+    client_.step(header, requests_, replies_);
+    to_responses(replies_, out);
+  }
+
+  void checkpoint(const std::string& dir, std::int64_t step) override {
+    client_.checkpoint(dir, step);
+  }
+
+  void finish() override { client_.shutdown(); }
+
+ private:
+  static void to_responses(const std::vector<protocol::RveReply>& replies,
+                           std::vector<PointResponse>& out) {
+    out.resize(replies.size());
+    for (std::size_t p = 0; p < replies.size(); ++p) {
+      const protocol::RveReply& r = replies[p];
+      PointResponse& o = out[p];
+      o.stress = Eigen::Map<const RowMajor3>(r.stress);
+      o.stiffness = r.stiffness;
+      o.rotation = Eigen::Vector3d(r.rotation[0], r.rotation[1], r.rotation[2]);
+      o.porosity = r.porosity;
+      o.coordination = r.coordination;
+      o.unbalanced_force = r.unbalanced_force;
+      o.status = r.status;
+    }
+  }
+
+  RveClient client_;
+  std::vector<protocol::RveRequest> requests_;
+  std::vector<protocol::RveReply> replies_;
+};
+
+}  // namespace
+
+std::unique_ptr<ConstitutiveProvider> make_remote_provider(const Scene& scene,
+                                                           std::size_t n_points,
+                                                           const std::string& run_dir) {
+  return std::make_unique<RemoteProvider>(scene, n_points, run_dir);
+}
+
+}  // namespace mpmdem::mpm

@@ -4,6 +4,13 @@
 // printed reference (`--print-config-reference`).
 //
 // Paths use dots for maps and `[]` for list items: "solver.cfl", "regions[].density".
+// A key is declared after its parent: a map ("solver", Type::kMap) or a list of maps
+// ("regions", Type::kList); an undeclared parent map is declared implicitly (no doc).
+// A required key must be present whenever its parent map is; an optional map that is absent
+// is not looked into. `config_version` is declared by every Schema and checked first.
+//
+// Declaring a key reads best with the helpers below:
+//   schema.add(key("solver.cfl", Type::kDouble, "-", "Courant number").def("0.5").gt(0).le(1));
 #pragma once
 
 #include <yaml-cpp/yaml.h>
@@ -13,6 +20,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace mpmdem::config {
@@ -42,7 +50,32 @@ struct KeySpec {
   double max = std::numeric_limits<double>::infinity();
   bool min_exclusive = false;  // value must be > min instead of >= min
   std::vector<std::string> choices;
+  bool max_exclusive = false;  // value must be < max instead of <= max
+
+  // Fluent setters for readable declarations (see key() below).
+  KeySpec& def(std::string yaml) { default_yaml = std::move(yaml); return *this; }
+  KeySpec& req() { required = true; return *this; }
+  KeySpec& ge(double v) { min = v; min_exclusive = false; return *this; }
+  KeySpec& gt(double v) { min = v; min_exclusive = true; return *this; }
+  KeySpec& le(double v) { max = v; max_exclusive = false; return *this; }
+  KeySpec& lt(double v) { max = v; max_exclusive = true; return *this; }
+  KeySpec& one_of(std::vector<std::string> c) { choices = std::move(c); return *this; }
 };
+
+// Start a declaration: key("solver.cfl", Type::kDouble, "-", "Courant number").
+inline KeySpec key(std::string path, Type type, std::string unit, std::string doc) {
+  KeySpec k;
+  k.path = std::move(path);
+  k.type = type;
+  k.unit = std::move(unit);
+  k.doc = std::move(doc);
+  return k;
+}
+
+// Human-readable name of a type ("number", "list of maps", ...).
+std::string type_name(Type type);
+// Allowed range of a numeric key as text ("> 0", "[0, 1)"), empty if unbounded.
+std::string range_text(const KeySpec& spec);
 
 // A user/config fault: names what to change. Exit code 2 in the programs.
 class ConfigError : public std::runtime_error {
@@ -61,9 +94,15 @@ class ConfigError : public std::runtime_error {
 
 class Schema {
  public:
+  Schema();  // declares `config_version`
+  // Declare a key. Declaring a path twice is a programming error (std::logic_error), except
+  // a map, which may be re-declared (the later non-empty doc wins). Defaults are validated.
   Schema& add(KeySpec spec);
   const KeySpec* find(const std::string& path) const;
   const std::vector<KeySpec>& keys() const { return keys_; }
+  // Keys whose parent is `parent` ("" for the top level, "solver", "regions[]"), in
+  // declaration order.
+  std::vector<const KeySpec*> children(const std::string& parent) const;
   // Markdown reference of every key: path, type, default, unit, range/choices, doc.
   std::string reference() const;
 
@@ -96,12 +135,23 @@ class Config {
   std::vector<Config> list(const std::string& path) const;  // items of a kList
   int line(const std::string& path) const;  // 1-based line of the key, or of the section
   const std::string& file() const { return file_; }
-  // Raise a ConfigError about `path` (for cross-key checks done by loaders).
+  // Raise a ConfigError about `path` (for cross-key checks done by loaders). The message is
+  // "<shown path> <what> (<file> line <n>)", e.g. fail("max", "[0, 0, 2] lies outside ...")
+  // in the view of regions[0] gives "regions[0].max [0, 0, 2] lies outside ... (f line 9)".
+  // An empty path names the view itself ("regions[0]").
   [[noreturn]] void fail(const std::string& path, const std::string& what) const;
+  // Path as shown in messages: "max" in the view of regions[0] -> "regions[0].max".
+  std::string shown(const std::string& path) const;
   const YAML::Node& root() const { return root_; }
+  const Schema& schema() const { return *schema_; }
+  // Canonical text (see canonical_yaml) of the top-level map `section` with the schema
+  // defaults filled in for absent keys and numbers normalised (60, 60.0 and 6e1 read the
+  // same), so a file that omits a key and one that writes its default give the same text.
+  std::string canonical_text(const std::string& section) const;
 
  private:
-  Config(YAML::Node root, const Schema* schema, std::string file, std::string prefix);
+  Config(YAML::Node root, const Schema* schema, std::string file, std::string prefix,
+         std::string display);
   YAML::Node lookup(const std::string& path) const;
   const KeySpec& spec(const std::string& path) const;
   YAML::Node value_or_default(const std::string& path) const;
@@ -109,11 +159,15 @@ class Config {
   YAML::Node root_;
   const Schema* schema_ = nullptr;
   std::string file_;
-  std::string prefix_;  // schema path prefix of this view, e.g. "regions[]."
+  std::string prefix_;   // schema path prefix of this view, e.g. "regions[]."
+  std::string display_;  // shown prefix of this view in messages, e.g. "regions[0]."
 };
 
 // Canonical text of a YAML subtree (maps with sorted keys, numbers as written, flow style)
-// so that two files that mean the same thing hash the same.
+// so that two files that mean the same thing hash the same. Scalars are written plain when
+// they consist of [A-Za-z0-9_.+-] only, else double-quoted with escapes; null is "~".
 std::string canonical_yaml(const YAML::Node& node);
+// Shortest decimal text that reads back as exactly `v` ("0.3", "1e+07", "60").
+std::string format_number(double v);
 
 }  // namespace mpmdem::config

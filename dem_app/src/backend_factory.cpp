@@ -1,0 +1,45 @@
+// Creating a backend by name: see backend_factory.hpp.
+#include "backend_factory.hpp"
+
+#include <stdexcept>
+
+#include "backends/elastic_backend.hpp"
+#ifdef MPMDEM_HAVE_YADE
+#include "backends/yade_backend.hpp"
+#endif
+
+namespace mpmdem::dem {
+
+std::vector<std::string> available_backends() {
+#ifdef MPMDEM_HAVE_YADE
+  return {"elastic", "yade"};
+#else
+  return {"elastic"};
+#endif
+}
+
+std::uint32_t backend_outputs(const std::string& name) {
+  if (name == "elastic") return kElasticOutputs;
+  // A DEM packing defines every output of the protocol.
+  if (name == "yade") return protocol::kKnownOutputs;
+  return 0;
+}
+
+std::unique_ptr<RveBackend> make_backend(const std::string& name, const config::Config& cfg,
+                                         const BackendContext& ctx) {
+  (void)ctx;
+  if (name == "elastic") return make_elastic_backend(cfg);
+#ifdef MPMDEM_HAVE_YADE
+  if (name == "yade") return make_yade_backend(cfg, ctx);
+#endif
+  std::string names;
+  for (const auto& n : available_backends()) names += (names.empty() ? "" : ", ") + n;
+  if (name == "yade") {
+    throw std::invalid_argument(
+        "backend 'yade' is not built into this dem_app (configure with -DMPMDEM_WITH_YADE=ON); "
+        "available: " + names);
+  }
+  throw std::invalid_argument("unknown backend '" + name + "'; available: " + names);
+}
+
+}  // namespace mpmdem::dem

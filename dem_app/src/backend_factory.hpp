@@ -1,0 +1,24 @@
+// Creating a backend by name (dem_app --backend NAME): elastic always, yade when built
+// with MPMDEM_HAVE_YADE.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "backend.hpp"
+#include "mpmdem/config/schema.hpp"
+
+namespace mpmdem::dem {
+
+// Backend names this build offers, e.g. {"elastic", "yade"}.
+std::vector<std::string> available_backends();
+// protocol::OutputBits the named backend can compute (the server advertises them in its
+// Hello; the handshake refuses a scene asking for more).
+std::uint32_t backend_outputs(const std::string& name);
+// Throws std::invalid_argument naming the available backends if `name` is not one.
+std::unique_ptr<RveBackend> make_backend(const std::string& name, const config::Config& cfg,
+                                         const BackendContext& ctx);
+
+}  // namespace mpmdem::dem

@@ -1,0 +1,146 @@
+// The coupling as each solver sees it (preCICE/MUSCLE3 spirit: a tiny API).
+//
+// Client (mpm_app):                       Server (dem_app, every rank):
+//   RveClient c;                            RveServerChannel ch;
+//   c.connect(opts, hello);                 ch.accept(opts, hello);
+//   c.initialise(inits);                    while (ch.next(header)) {     // F_INIT / O_I
+//   for (...) c.step(header, requests);       ch.receive(requests);       // S
+//   c.shutdown();                             compute...; ch.send(replies, report);  // O_F
+//                                           }
+// Every exchange: MPI_Bcast(ControlHeader) from the client root, MPI_Scatterv of the
+// per-RVE payload in contiguous partitions (partition_contiguous(n_rve, server ranks)),
+// MPI_Gatherv of the replies, MPI_Gather of one RankReport per server rank. Payloads travel
+// as derived datatypes (MPI_Type_contiguous of the struct size in bytes) so counts are
+// RVEs, not bytes. A RankReport with a fatal status makes the client throw PeerError.
+#pragma once
+
+#include <mpi.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "mpmdem/connection.hpp"
+#include "mpmdem/handshake.hpp"
+#include "mpmdem/partition.hpp"
+#include "mpmdem/protocol.hpp"
+
+namespace mpmdem {
+
+struct ExchangeTiming {
+  double exchange_s = 0.0;     // client wall time of the whole last exchange
+  double max_compute_s = 0.0;  // slowest server rank's backend time in it
+};
+
+// A fatal RVE status (anything but kOk and kNoContacts).
+bool is_fatal(std::int32_t rve_status);
+std::string status_name(std::int32_t rve_status);
+
+// MPI datatypes for the payload structs (MPI_Type_contiguous of sizeof(T) bytes).
+class PayloadTypes {
+ public:
+  PayloadTypes() = default;
+  ~PayloadTypes();
+  PayloadTypes(const PayloadTypes&) = delete;
+  PayloadTypes& operator=(const PayloadTypes&) = delete;
+  void create();
+  MPI_Datatype init = MPI_DATATYPE_NULL;
+  MPI_Datatype request = MPI_DATATYPE_NULL;
+  MPI_Datatype reply = MPI_DATATYPE_NULL;
+  MPI_Datatype report = MPI_DATATYPE_NULL;
+};
+
+class RveClient {
+ public:
+  RveClient() = default;
+  // Sends Abort if the client is still connected (the solver failed before shutdown()).
+  ~RveClient();
+  RveClient(const RveClient&) = delete;
+  RveClient& operator=(const RveClient&) = delete;
+
+  // Connect (see Connection::connect) and run the handshake; fills n_partitions and
+  // program. Throws ConnectTimeout, HandshakeError (after disconnecting) or PeerError.
+  void connect(const ConnectOptions& opts, HelloFields hello);
+  // One RveInit per RVE, in global order; returns one reply per RVE.
+  std::vector<protocol::RveReply> initialise(const std::vector<protocol::RveInit>& init);
+  // One RveRequest per RVE; header.kind is set to kStep. Returns one reply per RVE.
+  std::vector<protocol::RveReply> step(protocol::ControlHeader header,
+                                       const std::vector<protocol::RveRequest>& requests);
+  void step(protocol::ControlHeader header, const std::vector<protocol::RveRequest>& requests,
+            std::vector<protocol::RveReply>& replies);
+  // Servers save their RVEs under `path` (a directory; each rank writes its own file).
+  void checkpoint(const std::string& path, std::int64_t step);
+  // Orderly end: Shutdown message, disconnect.
+  void shutdown();
+  // Give up (own error): Abort message carrying `message`, disconnect. Never throws;
+  // bounded by a watchdog if the server no longer answers.
+  void abort(const std::string& message) noexcept;
+
+  bool connected() const { return conn_.connected(); }
+  int server_ranks() const { return conn_.remote_size(); }
+  std::uint64_t n_rve() const { return n_rve_; }
+  const std::vector<Partition>& partitions() const { return parts_; }
+  const HandshakeResult& handshake() const { return hs_; }
+  const std::vector<protocol::RankReport>& last_reports() const { return reports_; }
+  const ExchangeTiming& last_timing() const { return timing_; }
+
+ private:
+  bool root() const { return conn_.local_rank() == 0; }
+  void send_header(const protocol::ControlHeader& header);
+  void gather_reports(const char* what);
+  void require_connected(const char* what) const;
+  template <class T>
+  void scatter(const std::vector<T>& items, MPI_Datatype type);
+  void gather(std::vector<protocol::RveReply>& replies);
+
+  Connection conn_;
+  HandshakeResult hs_;
+  PayloadTypes types_;
+  std::uint64_t n_rve_ = 0;
+  std::vector<Partition> parts_;
+  std::vector<int> counts_, displs_;  // per server rank, in RVEs
+  std::vector<protocol::RankReport> reports_;
+  ExchangeTiming timing_;
+  bool broken_ = false;  // an MPI call failed: the intercommunicator is unusable
+};
+
+class RveServerChannel {
+ public:
+  RveServerChannel() = default;
+  RveServerChannel(const RveServerChannel&) = delete;
+  RveServerChannel& operator=(const RveServerChannel&) = delete;
+
+  // Collective over MPI_COMM_WORLD: accept one client and run the handshake (n_partitions
+  // and program filled in). Throws HandshakeError (after disconnecting) or PeerError.
+  void accept(const ConnectOptions& opts, HelloFields hello);
+  const HandshakeResult& handshake() const { return hs_; }
+  std::uint64_t n_rve() const { return n_rve_; }  // the client's count (authoritative)
+  Partition my_partition() const { return mine_; }
+  int rank() const { return conn_.local_rank(); }
+  int ranks() const { return conn_.local_size(); }
+
+  // Wait for the next exchange. false on Shutdown or Abort (see aborted()).
+  bool next(protocol::ControlHeader& header);
+  bool aborted() const { return aborted_; }
+  const std::string& abort_message() const { return abort_message_; }
+
+  // This rank's part of the scattered payload (my_partition().count items).
+  void receive(std::vector<protocol::RveInit>& init);
+  void receive(std::vector<protocol::RveRequest>& requests);
+  // Replies of this rank's RVEs, then this rank's report.
+  void send(const std::vector<protocol::RveReply>& replies, const protocol::RankReport& report);
+  // Report only (kCheckpoint).
+  void send_report(const protocol::RankReport& report);
+  void close();  // collective disconnect
+
+ private:
+  Connection conn_;
+  HandshakeResult hs_;
+  PayloadTypes types_;
+  std::uint64_t n_rve_ = 0;
+  Partition mine_{0, 0};
+  bool aborted_ = false;
+  std::string abort_message_;
+};
+
+}  // namespace mpmdem

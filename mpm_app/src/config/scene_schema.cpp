@@ -1,0 +1,215 @@
+// The scene schema: every key of a scene file, declared once (type, default, unit, doc,
+// range). `mpm_app --print-config-reference` prints it; docs/configuration.md explains it.
+// SI units throughout. Keys map 1:1 onto the structs of scene.hpp.
+#include "config/scene_loader.hpp"
+#include "coupling_schema.hpp"
+
+namespace mpmdem::mpm {
+
+using config::key;
+using config::Type;
+
+namespace {
+
+void add_scene_keys(config::Schema& s) {
+  s.add(key("scene", Type::kMap, "", "what this scene is"));
+  s.add(key("scene.name", Type::kString, "", "short name; the file name without .yaml if empty")
+            .def("''"));
+  s.add(key("scene.description", Type::kString, "", "one or two sentences").def("''"));
+}
+
+void add_grid_keys(config::Schema& s) {
+  s.add(key("grid", Type::kMap, "",
+            "background grid: a box of cubic cells; its faces are the walls")
+            .req());
+  s.add(key("grid.origin", Type::kVec3, "m", "lower corner of the domain").def("[0, 0, 0]"));
+  s.add(key("grid.extent", Type::kVec3, "m", "size of the domain; rounded up to whole cells")
+            .req()
+            .gt(0));
+  s.add(key("grid.cell_size", Type::kDouble, "m", "edge of a cubic cell").req().gt(0));
+}
+
+void add_region_keys(config::Schema& s) {
+  s.add(key("regions", Type::kList, "",
+            "boxes filled with material points (at least one); each item is a map")
+            .req());
+  s.add(key("regions[].name", Type::kString, "", "label; region<i> if empty").def("''"));
+  s.add(key("regions[].min", Type::kVec3, "m", "lower corner of the box").req());
+  s.add(key("regions[].max", Type::kVec3, "m", "upper corner of the box").req());
+  s.add(key("regions[].points_per_cell", Type::kInt, "-",
+            "material points per cell per direction")
+            .def("2")
+            .ge(1)
+            .le(8));
+  s.add(key("regions[].density", Type::kDouble, "kg/m^3", "initial mass density").req().gt(0));
+  s.add(key("regions[].velocity", Type::kVec3, "m/s", "initial velocity").def("[0, 0, 0]"));
+  s.add(key("regions[].sine_velocity", Type::kMap, "",
+            "optional first-mode velocity v(s) = amplitude sin(pi/2 s/L), s measured along "
+            "axis from the box's min face, L its length (fixed at min, free at max); added to "
+            "velocity"));
+  s.add(key("regions[].sine_velocity.axis", Type::kEnum, "", "direction of the velocity and of s")
+            .req()
+            .one_of({"x", "y", "z"}));
+  s.add(key("regions[].sine_velocity.amplitude", Type::kDouble, "m/s", "velocity at the free end")
+            .req());
+  s.add(key("regions[].initial_stress", Type::kEnum, "",
+            "none, or geostatic: sigma_v = -density |g| depth below the region's top along "
+            "gravity, sigma_h = k0 sigma_v")
+            .def("none")
+            .one_of({"none", "geostatic"}));
+  s.add(key("regions[].k0", Type::kDouble, "-", "lateral earth pressure ratio for geostatic")
+            .def("1")
+            .ge(0));
+}
+
+void add_wall_keys(config::Schema& s) {
+  s.add(key("walls", Type::kMap, "",
+            "condition on each face of the grid box: free (nothing), fixed (no-slip, a rough "
+            "wall), slip (frictionless: normal velocity zero), friction (Coulomb, "
+            "coefficient walls.friction)"));
+  for (const char* face : {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"}) {
+    s.add(key(std::string("walls.") + face, Type::kEnum, "", std::string("the ") + face + " face")
+              .def("free")
+              .one_of({"free", "fixed", "slip", "friction"}));
+  }
+  s.add(key("walls.friction", Type::kDouble, "-",
+            "Coulomb friction coefficient of every friction wall")
+            .def("0")
+            .ge(0));
+}
+
+void add_constraint_keys(config::Schema& s) {
+  s.add(key("velocity_constraints", Type::kList, "",
+            "grid velocity components held at a value on the nodes inside a box (a plane if "
+            "min = max along one axis) until released"));
+  s.add(key("velocity_constraints[].name", Type::kString, "", "label; constraint<i> if empty")
+            .def("''"));
+  s.add(key("velocity_constraints[].min", Type::kVec3, "m", "lower corner of the box").req());
+  s.add(key("velocity_constraints[].max", Type::kVec3, "m", "upper corner of the box").req());
+  s.add(key("velocity_constraints[].components", Type::kStringList, "",
+            "velocity components held (at least one)")
+            .req()
+            .one_of({"x", "y", "z"}));
+  s.add(key("velocity_constraints[].value", Type::kVec3, "m/s",
+            "held velocity (only the listed components are used)")
+            .def("[0, 0, 0]"));
+  s.add(key("velocity_constraints[].release_time", Type::kDouble, "s",
+            "release at this time (optional; never released if neither release key is given)")
+            .ge(0));
+  s.add(key("velocity_constraints[].release_kinetic_ratio", Type::kDouble, "-",
+            "release when E_k / E_p0 falls below this after release_min_time (optional)")
+            .gt(0));
+  s.add(key("velocity_constraints[].release_min_time", Type::kDouble, "s",
+            "earliest release by release_kinetic_ratio")
+            .def("0")
+            .ge(0));
+}
+
+void add_solver_keys(config::Schema& s) {
+  s.add(key("solver", Type::kMap, "", "time stepping").req());
+  s.add(key("solver.scheme", Type::kEnum, "",
+            "usl (stress update last) or musl (modified USL: velocities re-mapped to the grid "
+            "before the stress update)")
+            .def("musl")
+            .one_of({"usl", "musl"}));
+  s.add(key("solver.shape", Type::kEnum, "",
+            "shape functions: linear (trilinear, 8 nodes) or bspline2 (quadratic B-spline, "
+            "27 nodes)")
+            .def("linear")
+            .one_of({"linear", "bspline2"}));
+  s.add(key("solver.flip", Type::kDouble, "-", "FLIP fraction of the PIC/FLIP blend (1: pure FLIP)")
+            .def("0.99")
+            .ge(0)
+            .le(1));
+  s.add(key("solver.cfl", Type::kDouble, "-",
+            "Courant number: dt = cfl cell_size / c, c the largest P-wave speed")
+            .def("0.5")
+            .gt(0)
+            .le(1));
+  s.add(key("solver.dt_max", Type::kDouble, "s", "cap on the automatic time step")
+            .def("1e-3")
+            .gt(0));
+  s.add(key("solver.end_time", Type::kDouble, "s", "simulated time to run").req().gt(0));
+  s.add(key("solver.gravity", Type::kVec3, "m/s^2", "gravitational acceleration")
+            .def("[0, 0, -9.81]"));
+  s.add(key("solver.local_damping", Type::kDouble, "-",
+            "Cundall local (non-viscous) damping coefficient on the grid forces")
+            .def("0")
+            .ge(0)
+            .lt(1));
+  s.add(key("solver.on_exit", Type::kEnum, "",
+            "a material point leaving the grid: error (stop, naming point and step) or remove")
+            .def("error")
+            .one_of({"error", "remove"}));
+  s.add(key("solver.threads", Type::kInt, "-", "OpenMP threads; 0: the OpenMP default")
+            .def("0")
+            .ge(0)
+            .le(1024));
+}
+
+void add_constitutive_keys(config::Schema& s) {
+  s.add(key("constitutive", Type::kMap, "", "stress at the material points").req());
+  s.add(key("constitutive.model", Type::kEnum, "",
+            "linear_elastic (in-process) or remote (RVEs on dem_app; needs coupling:)")
+            .def("linear_elastic")
+            .one_of({"linear_elastic", "remote"}));
+  s.add(key("constitutive.linear_elastic", Type::kMap, "",
+            "isotropic linear elasticity with an objective update (model linear_elastic)"));
+  s.add(key("constitutive.linear_elastic.youngs_modulus", Type::kDouble, "Pa",
+            "Young's modulus E")
+            .req()
+            .gt(0));
+  s.add(key("constitutive.linear_elastic.poisson_ratio", Type::kDouble, "-", "Poisson's ratio nu")
+            .req()
+            .ge(0)
+            .lt(0.5));
+}
+
+void add_output_keys(config::Schema& s) {
+  s.add(key("output", Type::kMap, "", "files written to the run directory"));
+  s.add(key("output.interval", Type::kDouble, "s",
+            "simulated time between VTK frames; 0: first and last only")
+            .def("0")
+            .ge(0));
+  s.add(key("output.energy_interval", Type::kDouble, "s",
+            "simulated time between rows of energies.csv; 0: every step")
+            .def("0")
+            .ge(0));
+  s.add(key("output.vtk", Type::kBool, "", "write .vtu frames and a .pvd series").def("true"));
+  s.add(key("output.hdf5", Type::kBool, "", "write the final state to HDF5").def("true"));
+  s.add(key("output.progress_interval_s", Type::kDouble, "s",
+            "wall time between progress lines on the terminal")
+            .def("2")
+            .gt(0));
+}
+
+void add_verification_keys(config::Schema& s) {
+  s.add(key("verification", Type::kMap, "", "analytic comparison written to summary.json"));
+  s.add(key("verification.kind", Type::kEnum, "",
+            "elastic_column: stress profile and settlement under self-weight; bar_vibration: "
+            "period of the first axial mode")
+            .def("none")
+            .one_of({"none", "elastic_column", "bar_vibration"}));
+}
+
+}  // namespace
+
+const config::Schema& scene_schema() {
+  static const config::Schema schema = [] {
+    config::Schema s;
+    add_scene_keys(s);
+    add_grid_keys(s);
+    add_region_keys(s);
+    add_wall_keys(s);
+    add_constraint_keys(s);
+    add_solver_keys(s);
+    add_constitutive_keys(s);
+    add_coupling_keys(s);
+    add_output_keys(s);
+    add_verification_keys(s);
+    return s;
+  }();
+  return schema;
+}
+
+}  // namespace mpmdem::mpm

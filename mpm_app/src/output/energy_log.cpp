@@ -1,0 +1,32 @@
+#include "output/energy_log.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+namespace mpmdem::mpm {
+
+EnergyLog::EnergyLog(const std::string& path) : path_(path), out_(path, std::ios::trunc) {
+  if (!out_) throw std::runtime_error("cannot write '" + path + "'");
+  out_ << kHeader << '\n';
+  out_.flush();
+}
+
+void EnergyLog::append(const EnergyRow& r) {
+  const double E_d = r.E_p0 - r.E_p - r.E_k;
+  for (double value : {r.time, r.dt, r.E_p, r.E_k, E_d, r.E_strain, r.E_p0}) {
+    if (!std::isfinite(value)) {
+      throw std::runtime_error("non-finite energy at step " + std::to_string(r.step) +
+                               "; not written to " + path_);
+    }
+  }
+  char line[320];
+  std::snprintf(line, sizeof line, "%.10e,%lld,%.6e,%.12e,%.12e,%.12e,%.12e,%.12e\n", r.time,
+                static_cast<long long>(r.step), r.dt, r.E_p, r.E_k, E_d, r.E_strain, r.E_p0);
+  out_ << line;
+  out_.flush();
+  if (!out_) throw std::runtime_error("write to '" + path_ + "' failed (disk full?)");
+  ++rows_;
+}
+
+}  // namespace mpmdem::mpm

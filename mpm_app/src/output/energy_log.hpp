@@ -1,0 +1,40 @@
+// energies.csv: the energy time series of a run, one row per logged step, first row at t=0.
+// Columns: time [s], step, dt [s] (the step that led to this row; 0 on the first row),
+// E_p = -sum m g.x (sum m g z for gravity along -z), E_k = sum 1/2 m v^2, E_d = E_p0 - E_p - E_k (energy
+// dissipated, plus elastic energy stored), E_strain (elastic strain energy where the model
+// defines it, else 0), E_p0 (potential energy at t=0) — all in J.
+// Rows are appended and flushed as the run goes, so a long run can be watched.
+#pragma once
+
+#include <cstdint>
+#include <fstream>
+#include <string>
+
+namespace mpmdem::mpm {
+
+struct EnergyRow {
+  double time = 0.0;
+  std::int64_t step = 0;
+  double dt = 0.0;
+  double E_p = 0.0;
+  double E_k = 0.0;
+  double E_strain = 0.0;
+  double E_p0 = 0.0;
+};
+
+class EnergyLog {
+ public:
+  static constexpr const char* kHeader = "time,step,dt,E_p,E_k,E_d,E_strain,E_p0";
+
+  explicit EnergyLog(const std::string& path);
+  // Appends one row. Throws std::runtime_error if a value is not finite (nothing written).
+  void append(const EnergyRow& row);
+  std::size_t rows() const { return rows_; }
+
+ private:
+  std::string path_;
+  std::ofstream out_;
+  std::size_t rows_ = 0;
+};
+
+}  // namespace mpmdem::mpm

@@ -1,0 +1,37 @@
+// The run directory: where one run's outputs go, and how files in it are written.
+// Final files are written to a temporary name and renamed, so a reader never sees half a
+// file and an interrupted run never leaves a truncated summary or state.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace mpmdem::mpm {
+
+// The run directory cannot be used (exists with a finished run, not writable, ...).
+// A user fault: exit code 2, like a config error.
+class RunDirectoryError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// runs/<scene_name>-<UTC yyyymmdd-HHMMSS>, relative to the working directory.
+std::string default_run_directory(const std::string& scene_name);
+
+// Checks, without creating or touching anything, that `dir` may receive this run:
+// refused if it holds a finished or failed run (summary.json exists) unless `force`,
+// or if it exists and is not a directory. A directory that holds only what the pair
+// launcher put there (dem_port.txt, Open MPI files) is accepted.
+void check_run_directory(const std::string& dir, bool force);
+
+// Creates `dir` (and parents). With `force`, removes the outputs of an earlier run in it
+// (summary.json, energies.csv, final_state.h5, frames.pvd, frame_*.vtu) first.
+void create_run_directory(const std::string& dir, bool force);
+
+// Writes `content` to `path` through `path + ".tmp"` and a rename.
+void write_file_atomic(const std::string& path, const std::string& content);
+
+// Renames `tmp_path` to `path` (same directory), throwing with both names on failure.
+void commit_file(const std::string& tmp_path, const std::string& path);
+
+}  // namespace mpmdem::mpm

@@ -1,0 +1,49 @@
+// summary.json: the headline figures of a run (also of a failed or interrupted one).
+//   status             "complete" | "failed" | "interrupted"
+//   error              what stopped a failed run (absent otherwise)
+//   scene, config_file, run_directory, model, program_version
+//   wall_time_s, steps, n_material_points, removed_points, threads
+//   time_s, end_time_s, dt_min_s, dt_max_s
+//   mass_initial_kg, mass_final_kg, E_p0_J, E_p_J, E_k_J, E_d_J, E_d_over_E_p0
+//   verification       {"kind": ..., <error figures of that kind>} (absent for kind none)
+// Non-finite numbers are written as null (JSON has no NaN).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace mpmdem::mpm {
+
+struct RunSummary {
+  std::string status;
+  std::string error;
+  std::string scene;
+  std::string config_file;
+  std::string run_directory;
+  std::string model;
+  std::string program_version;
+  double wall_time_s = 0.0;
+  std::int64_t steps = 0;
+  std::size_t n_material_points = 0;
+  std::size_t removed_points = 0;
+  int threads = 1;
+  double time_s = 0.0;
+  double end_time_s = 0.0;
+  double dt_min_s = 0.0;
+  double dt_max_s = 0.0;
+  double mass_initial_kg = 0.0;
+  double mass_final_kg = 0.0;
+  double E_p0_J = 0.0;
+  double E_p_J = 0.0;
+  double E_k_J = 0.0;
+  std::string verification_kind;  // empty: none
+  std::vector<std::pair<std::string, double>> verification;  // figure name -> value
+};
+
+std::string to_json(const RunSummary& s);
+// Writes dir/summary.json through a temporary file and a rename.
+void write_summary(const std::string& path, const RunSummary& s);
+
+}  // namespace mpmdem::mpm

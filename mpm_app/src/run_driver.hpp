@@ -1,0 +1,52 @@
+// One run of a scene, from a validated Scene to a finished run directory: particles,
+// constitutive provider, solver; the time loop with progress lines, energy log and VTK
+// frames; the final state, the verification figures and summary.json.
+//
+// Exit codes (RunResult::exit_code, returned by mpm_app):
+//   0   complete
+//   2   scene or output-directory fault, found before the run directory was created
+//   4   the simulation failed (SimulationError, non-finite state, provider/peer error);
+//       summary.json says "status": "failed" with the message
+//   130 interrupted by SIGINT/SIGTERM: stopped after the current step, outputs written,
+//       "status": "interrupted"
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <iosfwd>
+#include <memory>
+#include <string>
+
+#include "constitutive/provider.hpp"
+#include "output/summary_json.hpp"
+#include "particles.hpp"
+#include "scene.hpp"
+
+namespace mpmdem::mpm {
+
+struct RunOptions {
+  std::string out_dir;          // empty: runs/<scene>-<UTC timestamp>
+  int threads = 0;              // > 0: overrides solver.threads
+  bool force = false;           // reuse a directory that holds an earlier run
+  bool handle_signals = true;   // install SIGINT/SIGTERM handlers for the run
+  std::ostream* out = nullptr;  // progress and events (nullptr: std::cout)
+  std::ostream* err = nullptr;  // errors (nullptr: std::cerr)
+  Particles* final_particles = nullptr;  // if set, receives a copy of the final state
+  // If set, builds the constitutive provider instead of the scene's model (tests inject
+  // faulty or instrumented providers through it).
+  std::function<std::unique_ptr<ConstitutiveProvider>(const Scene&, std::size_t n_points)>
+      provider_factory;
+};
+
+struct RunResult {
+  int exit_code = 0;
+  std::string run_dir;  // empty if the run never got a directory
+  RunSummary summary;
+};
+
+RunResult run_scene(const Scene& scene, const RunOptions& options);
+
+// Asks a running run_scene to stop after the current step (what the signal handler does).
+void request_stop();
+
+}  // namespace mpmdem::mpm

@@ -1,0 +1,238 @@
+// Verification against analytic solutions, run in-process through the run driver:
+//   - elastic column under self-weight (configs/elastic_column.yaml): stress profile and top
+//     settlement within 1%;
+//   - vibrating bar (configs/elastic_bar_vibration.yaml): period within 2% of 4 L / c;
+//   - mass conserved exactly (bitwise) over a run;
+//   - a non-finite stress fails the run (exit 4, summary "failed"), a stop request ends it
+//     after the current step with outputs written (exit 130, "interrupted").
+// The verifiers themselves are checked first on synthetic states with known errors.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+
+#include "config/scene_loader.hpp"
+#include "constitutive/linear_elastic.hpp"
+#include "particle_init.hpp"
+#include "run_driver.hpp"
+#include "verification/bar_vibration.hpp"
+#include "verification/elastic_column.hpp"
+
+namespace fs = std::filesystem;
+using namespace mpmdem::mpm;
+
+namespace {
+
+class TempDir {
+ public:
+  explicit TempDir(const std::string& tag) {
+    path_ = fs::temp_directory_path() /
+            ("mpmdem_" + tag + "_" + std::to_string(::getpid()) + "_" + std::to_string(count_++));
+    fs::remove_all(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  std::string str() const { return path_.string(); }
+
+ private:
+  fs::path path_;
+  static inline int count_ = 0;
+};
+
+std::string read_file(const std::string& p) {
+  std::ifstream in(p);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string source(const std::string& rel) { return std::string(MPMDEM_SOURCE_DIR) + "/" + rel; }
+
+double figure(const RunSummary& s, const std::string& key) {
+  for (const auto& [k, v] : s.verification)
+    if (k == key) return v;
+  ADD_FAILURE() << "summary has no " << key;
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+RunOptions quiet(const std::string& dir, std::ostream& log, Particles* final_state = nullptr) {
+  RunOptions o;
+  o.out_dir = dir;
+  o.handle_signals = false;
+  o.out = &log;
+  o.err = &log;
+  o.final_particles = final_state;
+  return o;
+}
+
+// The column's exact static state (1D strain) for a given scene, built on its particles.
+Particles exact_column(const Scene& scene) {
+  Particles p = generate_particles(scene);
+  const double g = -scene.solver.gravity.z();
+  const double M = scene_elastic_moduli(scene).M;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const RegionParams& reg = scene.regions[static_cast<std::size_t>(p.region[i])];
+    const double H = reg.max.z() - reg.min.z();
+    const double Z = p.x0[i].z() - reg.min.z();
+    p.sigma[i] = Mat3::Zero();
+    p.sigma[i](2, 2) = -reg.density * g * (H - Z);
+    p.x[i].z() = p.x0[i].z() - reg.density * g / M * (H * Z - 0.5 * Z * Z);
+  }
+  return p;
+}
+
+// Linear elastic, with a hook called before every update (fault injection).
+class HookedProvider : public ConstitutiveProvider {
+ public:
+  HookedProvider(std::unique_ptr<ConstitutiveProvider> inner,
+                 std::function<void(std::int64_t, std::vector<PointResponse>&)> hook)
+      : inner_(std::move(inner)), hook_(std::move(hook)) {}
+  std::string name() const override { return "hooked_" + inner_->name(); }
+  void initialise(const std::vector<Mat3>& s0, std::vector<PointResponse>& out) override {
+    inner_->initialise(s0, out);
+  }
+  void update(const std::vector<Mat3>& dF, double dt, std::int64_t step, double time,
+              std::vector<PointResponse>& out) override {
+    inner_->update(dF, dt, step, time, out);
+    hook_(++calls_, out);
+  }
+
+ private:
+  std::unique_ptr<ConstitutiveProvider> inner_;
+  std::function<void(std::int64_t, std::vector<PointResponse>&)> hook_;
+  std::int64_t calls_ = 0;
+};
+
+}  // namespace
+
+TEST(ElasticColumnVerifier, ExactStateHasNoErrorAndKnownPerturbationsAreMeasured) {
+  const Scene scene = load_scene(source("configs/elastic_column.yaml"));
+  Particles p = exact_column(scene);
+  ElasticColumnResult r = verify_elastic_column(scene, p);
+  EXPECT_LT(r.stress_rel_error, 1e-12);
+  EXPECT_LT(r.settlement_rel_error, 1e-12);
+  EXPECT_GT(r.top_layer_points, 0u);
+  // Surface settlement rho g H^2 / (2M) of the scene's comment: 7.288e-4 m.
+  EXPECT_NEAR(r.settlement_surface_expected_m, 7.288e-4, 1e-6);
+
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    p.sigma[i](2, 2) *= 1.03;
+    p.x[i].z() = p.x0[i].z() - 1.05 * (p.x0[i].z() - p.x[i].z());
+  }
+  r = verify_elastic_column(scene, p);
+  EXPECT_NEAR(r.stress_rel_error, 0.03, 1e-12);
+  EXPECT_NEAR(r.settlement_rel_error, 0.05, 1e-9);
+}
+
+TEST(BarVibrationVerifier, PeriodOfASampledCosineWithNoise) {
+  const double T = 0.0487;
+  std::vector<double> t, s;
+  for (int i = 0; i <= 2000; ++i) {
+    t.push_back(i * 1e-4);
+    // First mode plus a small third harmonic that wiggles near the crossings.
+    s.push_back(std::cos(2 * M_PI * t.back() / T) + 0.05 * std::cos(6 * M_PI * t.back() / T));
+  }
+  const std::vector<double> c = zero_crossings(t, s);
+  ASSERT_EQ(c.size(), 8u);  // 0.2 s is 4.1 periods: crossings at T/4, 3T/4, ...
+  EXPECT_NEAR(c[0], T / 4, 1e-5);
+  EXPECT_NEAR((c.back() - c.front()) / 3.5, T, 1e-5);
+}
+
+TEST(Verification, ElasticColumnMatchesTheStaticSolutionAndConservesMass) {
+  const Scene scene = load_scene(source("configs/elastic_column.yaml"));
+  TempDir dir("column");
+  std::ostringstream log;
+  Particles final_state;
+  const RunResult r = run_scene(scene, quiet(dir.str(), log, &final_state));
+  ASSERT_EQ(r.exit_code, 0) << log.str();
+  const double stress = figure(r.summary, "stress_rel_error");
+  const double settlement = figure(r.summary, "settlement_rel_error");
+  std::cout << "elastic column: stress_rel_error " << stress << ", settlement_rel_error "
+            << settlement << ", " << r.summary.steps << " steps, "
+            << r.summary.n_material_points << " points\n";
+  EXPECT_LE(stress, 0.01);
+  EXPECT_LE(settlement, 0.01);
+  EXPECT_NE(read_file(dir.str() + "/summary.json").find("\"stress_rel_error\""),
+            std::string::npos);
+
+  // Mass: every point keeps its mass bit for bit, so the total is bitwise the same.
+  const Particles initial = generate_particles(scene);
+  ASSERT_EQ(final_state.size(), initial.size());
+  for (std::size_t i = 0; i < initial.size(); ++i) {
+    ASSERT_EQ(final_state.id[i], initial.id[i]);
+    ASSERT_EQ(final_state.m[i], initial.m[i]);
+  }
+  EXPECT_EQ(r.summary.mass_final_kg, r.summary.mass_initial_kg);
+}
+
+TEST(Verification, BarVibratesWithThePeriodOfItsFirstMode) {
+  const Scene scene = load_scene(source("configs/elastic_bar_vibration.yaml"));
+  TempDir dir("bar");
+  std::ostringstream log;
+  const RunResult r = run_scene(scene, quiet(dir.str(), log));
+  ASSERT_EQ(r.exit_code, 0) << log.str();
+  const double period = figure(r.summary, "period_s");
+  const double expected = figure(r.summary, "period_expected_s");
+  const double error = figure(r.summary, "period_rel_error");
+  std::cout << "bar vibration: period " << period << " s, expected " << expected
+            << " s, rel error " << error << "\n";
+  // 4 L / c with c = sqrt(M / rho): the scene's comment says 0.04876 s.
+  EXPECT_NEAR(expected, 0.04876, 1e-4);
+  EXPECT_GE(figure(r.summary, "zero_crossings"), 4.0);
+  EXPECT_LE(error, 0.02);
+  EXPECT_EQ(r.summary.mass_final_kg, r.summary.mass_initial_kg);
+}
+
+TEST(Verification, NonFiniteStressFailsTheRunAndMarksTheResults) {
+  Scene scene = load_scene(source("configs/elastic_column.yaml"));
+  scene.solver.end_time = 0.05;
+  TempDir dir("nan");
+  std::ostringstream log;
+  RunOptions o = quiet(dir.str(), log);
+  o.provider_factory = [](const Scene& s, std::size_t) -> std::unique_ptr<ConstitutiveProvider> {
+    return std::make_unique<HookedProvider>(
+        make_linear_elastic(s.constitutive), [](std::int64_t call, auto& out) {
+          if (call == 5) out[7].stress(2, 2) = std::numeric_limits<double>::quiet_NaN();
+        });
+  };
+  const RunResult r = run_scene(scene, o);
+  EXPECT_EQ(r.exit_code, 4) << log.str();
+  EXPECT_EQ(r.summary.status, "failed");
+  EXPECT_LE(r.summary.steps, 6);
+  const std::string summary = read_file(dir.str() + "/summary.json");
+  EXPECT_NE(summary.find("\"status\": \"failed\""), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\"error\": "), std::string::npos);
+  EXPECT_EQ(summary.find("nan"), std::string::npos) << summary;
+  EXPECT_FALSE(fs::exists(dir.str() + "/final_state.h5"));
+  // Whatever was logged before the fault is finite.
+  EXPECT_EQ(read_file(dir.str() + "/energies.csv").find("nan"), std::string::npos);
+}
+
+TEST(Verification, StopRequestEndsAfterTheCurrentStepWithOutputs) {
+  Scene scene = load_scene(source("configs/elastic_column.yaml"));
+  TempDir dir("stop");
+  std::ostringstream log;
+  RunOptions o = quiet(dir.str(), log);
+  o.provider_factory = [](const Scene& s, std::size_t) -> std::unique_ptr<ConstitutiveProvider> {
+    return std::make_unique<HookedProvider>(make_linear_elastic(s.constitutive),
+                                            [](std::int64_t call, auto&) {
+                                              if (call == 10) request_stop();
+                                            });
+  };
+  const RunResult r = run_scene(scene, o);
+  EXPECT_EQ(r.exit_code, 130) << log.str();
+  EXPECT_EQ(r.summary.status, "interrupted");
+  EXPECT_GE(r.summary.steps, 9);
+  EXPECT_LE(r.summary.steps, 11);
+  EXPECT_LT(r.summary.time_s, scene.solver.end_time);
+  EXPECT_TRUE(fs::exists(dir.str() + "/final_state.h5"));
+  EXPECT_NE(read_file(dir.str() + "/summary.json").find("\"status\": \"interrupted\""),
+            std::string::npos);
+}

@@ -37,7 +37,8 @@ std::unique_ptr<RveBackend> make_backend(const std::string& name, const config::
   if (name == "yade") {
     throw std::invalid_argument(
         "backend 'yade' is not built into this dem_app (configure with -DMPMDEM_WITH_YADE=ON); "
-        "available: " + names);
+        "available: " +
+        names);
   }
   throw std::invalid_argument("unknown backend '" + name + "'; available: " + names);
 }

@@ -41,9 +41,8 @@ void add_coupling_keys(config::Schema& s) {
             .def("dem_port.txt"));
   s.add(key("coupling.elastic", Type::kMap, "",
             "material of the elastic stub backend (required when backend is elastic)"));
-  s.add(key("coupling.elastic.youngs_modulus", Type::kDouble, "Pa", "Young's modulus E")
-            .req()
-            .gt(0));
+  s.add(
+      key("coupling.elastic.youngs_modulus", Type::kDouble, "Pa", "Young's modulus E").req().gt(0));
   s.add(key("coupling.elastic.poisson_ratio", Type::kDouble, "-", "Poisson's ratio nu")
             .req()
             .ge(0)

@@ -3,6 +3,7 @@
 //
 //   mpirun --ompi-server file:URI -np N dem_app --backend elastic|yade --scene FILE
 //          --run-dir DIR [--restore CHECKPOINT_DIR] [--timeout S]
+//   dem_app --print-backend FILE     coupling.backend of a scene (no MPI; for scripts/run)
 //
 // Exit codes: 0 after an orderly shutdown, 2 config/command-line error, 3 handshake
 // refused, 4 no client / MPI failure / client aborted.
@@ -32,6 +33,7 @@ constexpr const char* kUsage =
     "  --run-dir   run directory shared with mpm_app (--out): the port file goes there\n"
     "  --restore   start the RVEs from a checkpoint directory instead of kInitialise\n"
     "  --timeout   seconds to wait for mpm_app (default coupling.connect_timeout_s)\n"
+    "       dem_app --print-backend FILE   print coupling.backend of a scene and exit\n"
     "Run under mpirun with the same --ompi-server file:URI as mpm_app (see docs/protocol.md).\n";
 
 struct Args {
@@ -125,7 +127,21 @@ int run(int argc, char** argv, int rank) {
 
 }  // namespace
 
+// `dem_app --print-backend FILE`: validated coupling.backend, without starting MPI.
+int print_backend(const std::string& file) {
+  try {
+    const auto cfg = mpmdem::config::Config::load(file, mpmdem::coupling_schema(), "coupling");
+    mpmdem::check_coupling(cfg);
+    std::cout << cfg.string("coupling.backend") << "\n";
+    return 0;
+  } catch (const std::exception& e) {
+    std::cerr << "dem_app: config error: " << e.what() << "\n";
+    return mpmdem::kExitConfigError;
+  }
+}
+
 int main(int argc, char** argv) {
+  if (argc == 3 && std::string(argv[1]) == "--print-backend") return print_backend(argv[2]);
   int rank = 0;
   try {
     mpmdem::MpiSession mpi(&argc, &argv, MPI_THREAD_FUNNELED);

@@ -21,8 +21,7 @@ using protocol::RveStatus;
 namespace {
 
 double now_s() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 RankReport make_report(int rank) {
@@ -81,9 +80,8 @@ int serve(const ServerOptions& opts, const BackendMaker& make_backend) {
   ctx.rank = channel.rank();
   ctx.run_dir = opts.run_dir;
   if (root) {
-    std::cerr << "dem_app: connected; serving " << channel.n_rve() << " RVEs on "
-              << channel.ranks() << " rank(s) with backend '" << opts.backend << "'"
-              << std::endl;
+    std::cerr << "dem_app: connected; serving " << channel.n_rve() << " RVEs on " << channel.ranks()
+              << " rank(s) with backend '" << opts.backend << "'" << std::endl;
   }
 
   // A failing set-up is reported on every exchange, so the client aborts with the reason.

@@ -17,12 +17,12 @@
 namespace mpmdem::dem {
 
 struct ServerOptions {
-  ConnectOptions connect;                 // service name, port file, timeout, config file
-  std::string backend;                    // name, announced in the Hello
-  std::uint32_t outputs = 0;              // what the backend can provide
-  std::uint64_t config_hash = 0;          // hash of the canonical coupling section
+  ConnectOptions connect;         // service name, port file, timeout, config file
+  std::string backend;            // name, announced in the Hello
+  std::uint32_t outputs = 0;      // what the backend can provide
+  std::uint64_t config_hash = 0;  // hash of the canonical coupling section
   std::filesystem::path run_dir;
-  std::filesystem::path restore_dir;      // empty: start from the client's kInitialise
+  std::filesystem::path restore_dir;  // empty: start from the client's kInitialise
 };
 
 using BackendMaker = std::function<std::unique_ptr<RveBackend>(const BackendContext&)>;

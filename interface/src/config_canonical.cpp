@@ -25,10 +25,18 @@ std::string quoted(const std::string& s) {
   std::string out = "\"";
   for (unsigned char c : s) {
     switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\t': out += "\\t"; break;
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
       default:
         if (c < 0x20) {
           char buf[8];
@@ -109,7 +117,8 @@ YAML::Node filled(const Schema& schema, const YAML::Node& node, const std::strin
     YAML::Node v(YAML::NodeType::Undefined);
     if (node.IsDefined() && node.IsMap()) {
       const YAML::Node& c = node;
-      v.reset(c[name]);
+      const YAML::Node found = c[name];  // invalid if absent: reset() would throw
+      if (found.IsDefined()) v.reset(found);
     }
     const bool present = v.IsDefined() && !v.IsNull();
     switch (spec->type) {
@@ -142,6 +151,10 @@ YAML::Node filled(const Schema& schema, const YAML::Node& node, const std::strin
 std::string format_number(double v) {
   if (v == 0.0) return "0";  // also -0
   char buf[40];
+  if (std::abs(v) < 1e15 && v == std::trunc(v)) {  // whole numbers without exponent: "60"
+    std::snprintf(buf, sizeof buf, "%.0f", v);
+    return buf;
+  }
   for (int precision = 1; precision <= 17; ++precision) {
     std::snprintf(buf, sizeof buf, "%.*g", precision, v);
     if (std::strtod(buf, nullptr) == v) break;

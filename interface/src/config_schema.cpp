@@ -47,7 +47,9 @@ int line_of(const YAML::Node& node) {
 
 // ---- Scalars ----------------------------------------------------------------------------
 
-bool is_quoted(const YAML::Node& n) { return n.Tag() == "!"; }
+bool is_quoted(const YAML::Node& n) {
+  return n.Tag() == "!";
+}
 
 bool parse_double(const std::string& text, double& out) {
   if (text.empty()) return false;
@@ -121,12 +123,13 @@ class Validator {
   // A map whose keys are the children of schema path `parent` ("" = top level).
   // `shown` is its path as shown in messages ("" / "solver" / "regions[0]"), `line` the line
   // of its key (for missing-key messages).
-  void map(const YAML::Node& node, const std::string& parent, const std::string& shown,
-           int line, const std::string& only_section = "") {
+  void map(const YAML::Node& node, const std::string& parent, const std::string& shown, int line,
+           const std::string& only_section = "") {
     const std::string dot_shown = shown.empty() ? "" : shown + ".";
     std::map<std::string, int> seen;
     for (auto it = node.begin(); it != node.end(); ++it) {
-      const YAML::Node& k = it->first;
+      const YAML::Node k = it->first;  // a copy: `it->` returns a temporary proxy
+      const YAML::Node v = it->second;
       const int key_line = line_of(k);
       if (!k.IsScalar()) fail(key_line, shown, "has a key that is not a plain name");
       const std::string name = k.Scalar();
@@ -140,19 +143,21 @@ class Validator {
       const std::string path = parent.empty() ? name : parent + "." + name;
       const KeySpec* spec = schema_.find(path);
       if (!spec) unknown(key_line, parent, name, where);
-      value(*spec, it->second, where, key_line);
+      value(*spec, v, where, key_line);
     }
     // Required keys and required sections of this map.
     for (const KeySpec* c : schema_.children(parent)) {
       const std::string name = leaf_of(c->path);
       if (!only_section.empty() && name != only_section) continue;
       if (c->required && !seen.count(name)) {
-        const std::string in = shown.empty() ? "at the top level of the file"
-                                             : "in '" + shown + "' (line " +
-                                                   std::to_string(line) + ")";
+        const std::string in = shown.empty()
+                                   ? "at the top level of the file"
+                                   : "in '" + shown + "' (line " + std::to_string(line) + ")";
+        const bool section = c->type == Type::kMap || c->type == Type::kList;
+        const std::string unit = c->unit.empty() || c->unit == "-" ? "" : ", " + c->unit;
         fail(line, dot_shown + name,
-             "is required but missing " + in + ": " + c->doc + " [" + type_name(c->type) +
-                 (c->unit.empty() || c->unit == "-" ? "" : ", " + c->unit) + "]");
+             "is required but missing " + in + ": " + c->doc +
+                 (section ? "" : " [" + type_name(c->type) + unit + "]"));
       }
     }
   }
@@ -203,10 +208,8 @@ class Validator {
         return;
       case Type::kEnum:
         if (!v.IsScalar() ||
-            std::find(spec.choices.begin(), spec.choices.end(), v.Scalar()) ==
-                spec.choices.end()) {
-          fail(line, where,
-               "must be one of " + join(spec.choices, ", ") + "; got " + describe(v));
+            std::find(spec.choices.begin(), spec.choices.end(), v.Scalar()) == spec.choices.end()) {
+          fail(line, where, "must be one of " + join(spec.choices, ", ") + "; got " + describe(v));
         }
         return;
       case Type::kVec3: {
@@ -219,8 +222,7 @@ class Validator {
         }
         for (double c : xyz) {
           if (!in_range(spec, c)) {
-            fail(line, where,
-                 "components must be " + range_text(spec) + ", got " + vec_text(xyz));
+            fail(line, where, "components must be " + range_text(spec) + ", got " + vec_text(xyz));
           }
         }
         return;
@@ -315,9 +317,8 @@ void check_version(const YAML::Node& root, const std::string& file) {
   }
   if (n > kConfigVersion) {
     throw ConfigError(file, line, "config_version",
-                      "config_version " + std::to_string(n) +
-                          " is newer than this build reads (" + std::to_string(kConfigVersion) +
-                          "): upgrade mpmdem");
+                      "config_version " + std::to_string(n) + " is newer than this build reads (" +
+                          std::to_string(kConfigVersion) + "): upgrade mpmdem");
   }
   if (n < kConfigVersion) {
     throw ConfigError(file, line, "config_version",
@@ -330,8 +331,10 @@ void check_version(const YAML::Node& root, const std::string& file) {
 std::string cell(std::string s) {
   std::string out;
   for (char c : s) {
-    if (c == '|') out += "\\|";
-    else out += c;
+    if (c == '|')
+      out += "\\|";
+    else
+      out += c;
   }
   return out;
 }
@@ -342,15 +345,24 @@ std::string cell(std::string s) {
 
 std::string type_name(Type type) {
   switch (type) {
-    case Type::kDouble: return "number";
-    case Type::kInt: return "integer";
-    case Type::kBool: return "bool";
-    case Type::kString: return "string";
-    case Type::kEnum: return "choice";
-    case Type::kVec3: return "[x, y, z]";
-    case Type::kStringList: return "list of strings";
-    case Type::kMap: return "map";
-    case Type::kList: return "list of maps";
+    case Type::kDouble:
+      return "number";
+    case Type::kInt:
+      return "integer";
+    case Type::kBool:
+      return "bool";
+    case Type::kString:
+      return "string";
+    case Type::kEnum:
+      return "choice";
+    case Type::kVec3:
+      return "[x, y, z]";
+    case Type::kStringList:
+      return "list of strings";
+    case Type::kMap:
+      return "map";
+    case Type::kList:
+      return "list of maps";
   }
   return "?";
 }
@@ -522,9 +534,9 @@ Config Config::from_string(const std::string& yaml_text, const Schema& schema,
                           std::to_string(kConfigVersion) + "'");
   }
   if (!root.IsMap()) {
-    throw ConfigError(file_label, line_of(root), "",
-                      "the top level must be a map of sections (key: value), got " +
-                          describe(root));
+    throw ConfigError(
+        file_label, line_of(root), "",
+        "the top level must be a map of sections (key: value), got " + describe(root));
   }
   check_version(root, file_label);
   if (!section.empty()) {

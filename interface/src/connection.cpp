@@ -77,7 +77,9 @@ Watchdog::Watchdog(double seconds, std::function<void()> on_expire) {
   });
 }
 
-Watchdog::~Watchdog() { cancel(); }
+Watchdog::~Watchdog() {
+  cancel();
+}
 
 void Watchdog::cancel() {
   {
@@ -108,8 +110,8 @@ void write_port_file(const std::filesystem::path& file, const std::string& port)
   }
   std::error_code ec;
   std::filesystem::rename(tmp, file, ec);
-  if (ec) throw PeerError("cannot rename " + tmp.string() + " to " + file.string() + ": " +
-                          ec.message());
+  if (ec)
+    throw PeerError("cannot rename " + tmp.string() + " to " + file.string() + ": " + ec.message());
 }
 
 bool read_port_file(const std::filesystem::path& file, std::string& port) {
@@ -129,7 +131,7 @@ void remove_quietly(const std::filesystem::path& file) {
 }
 
 std::string launch_hint() {
-  return "both programs must run under mpirun with the same --ompi-server file:URI "
+  return "check that both programs run under mpirun with the same --ompi-server file:URI "
          "(scripts/run and scripts/lib/pair.sh do this)";
 }
 
@@ -151,9 +153,8 @@ Connection Connection::accept(const ConnectOptions& opts, MPI_Comm local) {
       const int rc = MPI_Publish_name(opts.service_name.c_str(), MPI_INFO_NULL, port.data());
       published = rc == MPI_SUCCESS;
       if (!published) {
-        std::cerr << "dem_app: warning: could not publish service '" << opts.service_name
-                  << "' (" << mpi_error_string(rc)
-                  << "); no ompi-server? Clients must find the port file "
+        std::cerr << "dem_app: warning: could not publish service '" << opts.service_name << "' ("
+                  << mpi_error_string(rc) << "); no ompi-server? Clients must find the port file "
                   << (opts.port_file.empty() ? std::string("(none configured!)")
                                              : opts.port_file.string())
                   << std::endl;
@@ -161,7 +162,8 @@ Connection Connection::accept(const ConnectOptions& opts, MPI_Comm local) {
     }
     if (!opts.port_file.empty()) write_port_file(opts.port_file, port.data());
     std::cerr << "dem_app: waiting for mpm_app on service '" << opts.service_name << "'"
-              << (opts.port_file.empty() ? std::string() : " (port file " + opts.port_file.string() + ")")
+              << (opts.port_file.empty() ? std::string()
+                                         : " (port file " + opts.port_file.string() + ")")
               << ", timeout " << format_seconds(opts.timeout_s) << " s" << std::endl;
   }
 
@@ -221,8 +223,7 @@ Connection Connection::connect(const ConnectOptions& opts, MPI_Comm local) {
         break;
       }
       if (opts.publish &&
-          MPI_Lookup_name(opts.service_name.c_str(), MPI_INFO_NULL, port.data()) ==
-              MPI_SUCCESS) {
+          MPI_Lookup_name(opts.service_name.c_str(), MPI_INFO_NULL, port.data()) == MPI_SUCCESS) {
         found = 1;
         break;
       }
@@ -238,7 +239,7 @@ Connection Connection::connect(const ConnectOptions& opts, MPI_Comm local) {
         << "' is not published and the port file "
         << (opts.port_file.empty() ? std::string("(none)") : opts.port_file.string())
         << " does not exist: start dem_app first (with --run-dir set to this run's output "
-           "folder), or check that "
+           "folder), or "
         << launch_hint();
     throw ConnectTimeout(msg.str());
   }

@@ -30,11 +30,16 @@ bool is_fatal(std::int32_t s) {
 
 std::string status_name(std::int32_t s) {
   switch (static_cast<RveStatus>(s)) {
-    case RveStatus::kOk: return "ok";
-    case RveStatus::kNoContacts: return "no contacts";
-    case RveStatus::kNonFinite: return "non-finite values";
-    case RveStatus::kExploding: return "exploding kinetic energy";
-    case RveStatus::kBackendError: return "backend error";
+    case RveStatus::kOk:
+      return "ok";
+    case RveStatus::kNoContacts:
+      return "no contacts";
+    case RveStatus::kNonFinite:
+      return "non-finite values";
+    case RveStatus::kExploding:
+      return "exploding kinetic energy";
+    case RveStatus::kBackendError:
+      return "backend error";
   }
   return "unknown status " + std::to_string(s);
 }
@@ -57,8 +62,7 @@ void free_type(MPI_Datatype& t) {
 }
 
 double now_s() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 }  // namespace
@@ -85,7 +89,8 @@ RveClient::~RveClient() {
 }
 
 void RveClient::require_connected(const char* what) const {
-  if (!connected()) throw PeerError(std::string("RveClient::") + what + " called while not connected");
+  if (!connected())
+    throw PeerError(std::string("RveClient::") + what + " called while not connected");
 }
 
 void RveClient::connect(const ConnectOptions& opts, HelloFields hello) {
@@ -100,7 +105,8 @@ void RveClient::connect(const ConnectOptions& opts, HelloFields hello) {
     conn_.disconnect();
     throw;
   }
-  if (auto note = minor_version_note(hs_.client, hs_.server)) std::cerr << "mpm_app: " << *note << '\n';
+  if (auto note = minor_version_note(hs_.client, hs_.server))
+    std::cerr << "mpm_app: " << *note << '\n';
   n_rve_ = hello.n_rve;
   if (n_rve_ > static_cast<std::uint64_t>(INT_MAX)) {
     conn_.abandon();
@@ -130,13 +136,13 @@ void RveClient::send_header(const ControlHeader& header) {
 template <class T>
 void RveClient::scatter(const std::vector<T>& items, MPI_Datatype type) {
   if (root() && items.size() != n_rve_) {
-    throw PeerError("coupling exchange got " + std::to_string(items.size()) +
-                    " items for " + std::to_string(n_rve_) + " RVEs");
+    throw PeerError("coupling exchange got " + std::to_string(items.size()) + " items for " +
+                    std::to_string(n_rve_) + " RVEs");
   }
   const int root_arg = root() ? MPI_ROOT : MPI_PROC_NULL;
   try {
-    MPMDEM_CHECK_MPI(MPI_Scatterv(items.data(), counts_.data(), displs_.data(), type, nullptr,
-                                  0, type, root_arg, conn_.intercomm()));
+    MPMDEM_CHECK_MPI(MPI_Scatterv(items.data(), counts_.data(), displs_.data(), type, nullptr, 0,
+                                  type, root_arg, conn_.intercomm()));
   } catch (...) {
     broken_ = true;
     throw;
@@ -166,13 +172,13 @@ void RveClient::gather_reports(const char* what) {
     throw;
   }
   timing_.max_compute_s = 0.0;
-  for (const auto& r : reports_) timing_.max_compute_s = std::max(timing_.max_compute_s, r.compute_s);
+  for (const auto& r : reports_)
+    timing_.max_compute_s = std::max(timing_.max_compute_s, r.compute_s);
   for (std::size_t i = 0; i < reports_.size(); ++i) {
     const RankReport& r = reports_[i];
     if (!is_fatal(r.status)) continue;
     std::ostringstream msg;
-    msg << "DEM server rank " << i << " failed during " << what << ": "
-        << status_name(r.status);
+    msg << "DEM server rank " << i << " failed during " << what << ": " << status_name(r.status);
     if (r.first_fault_rve >= 0) msg << " at RVE " << r.first_fault_rve;
     if (r.n_faults > 1) msg << " (" << r.n_faults << " faulty RVEs on that rank)";
     const std::string detail(r.message, strnlen(r.message, sizeof r.message));
@@ -274,10 +280,12 @@ void RveServerChannel::accept(const ConnectOptions& opts, HelloFields hello) {
     throw;
   }
   if (conn_.local_rank() == 0) {
-    if (auto note = minor_version_note(hs_.client, hs_.server)) std::cerr << "dem_app: " << *note << '\n';
+    if (auto note = minor_version_note(hs_.client, hs_.server))
+      std::cerr << "dem_app: " << *note << '\n';
   }
   n_rve_ = hs_.client.n_rve;
-  mine_ = partition_contiguous(n_rve_, conn_.local_size())[static_cast<std::size_t>(conn_.local_rank())];
+  mine_ = partition_contiguous(n_rve_,
+                               conn_.local_size())[static_cast<std::size_t>(conn_.local_rank())];
 }
 
 bool RveServerChannel::next(ControlHeader& header) {
@@ -305,8 +313,7 @@ bool RveServerChannel::next(ControlHeader& header) {
 void RveServerChannel::receive(std::vector<RveInit>& init) {
   init.resize(mine_.count);
   MPMDEM_CHECK_MPI(MPI_Scatterv(nullptr, nullptr, nullptr, types_.init, init.data(),
-                                static_cast<int>(mine_.count), types_.init, 0,
-                                conn_.intercomm()));
+                                static_cast<int>(mine_.count), types_.init, 0, conn_.intercomm()));
 }
 
 void RveServerChannel::receive(std::vector<RveRequest>& requests) {
@@ -318,16 +325,18 @@ void RveServerChannel::receive(std::vector<RveRequest>& requests) {
 
 void RveServerChannel::send(const std::vector<RveReply>& replies, const RankReport& report) {
   assert(replies.size() == mine_.count);
-  MPMDEM_CHECK_MPI(MPI_Gatherv(replies.data(), static_cast<int>(mine_.count), types_.reply,
-                               nullptr, nullptr, nullptr, types_.reply, 0, conn_.intercomm()));
+  MPMDEM_CHECK_MPI(MPI_Gatherv(replies.data(), static_cast<int>(mine_.count), types_.reply, nullptr,
+                               nullptr, nullptr, types_.reply, 0, conn_.intercomm()));
   send_report(report);
 }
 
 void RveServerChannel::send_report(const RankReport& report) {
-  MPMDEM_CHECK_MPI(MPI_Gather(&report, 1, types_.report, nullptr, 0, types_.report, 0,
-                              conn_.intercomm()));
+  MPMDEM_CHECK_MPI(
+      MPI_Gather(&report, 1, types_.report, nullptr, 0, types_.report, 0, conn_.intercomm()));
 }
 
-void RveServerChannel::close() { conn_.disconnect(); }
+void RveServerChannel::close() {
+  conn_.disconnect();
+}
 
 }  // namespace mpmdem

@@ -69,8 +69,7 @@ protocol::Hello make_hello(const HelloFields& f) {
 }
 
 std::string output_names(std::uint32_t bits) {
-  static const char* const kNames[] = {"rotation", "porosity", "coordination",
-                                       "unbalanced_force"};
+  static const char* const kNames[] = {"rotation", "porosity", "coordination", "unbalanced_force"};
   std::string out;
   for (int b = 0; b < 32; ++b) {
     if (!(bits & (1u << b))) continue;
@@ -95,39 +94,36 @@ std::optional<std::string> check_compatible(const protocol::Hello& client,
            "; not an mpmdem peer, or another byte order)";
   }
   if (client.version_major != server.version_major) {
-    return "protocol major version differs: " + c + " " +
-           std::to_string(client.version_major) + "." + std::to_string(client.version_minor) +
-           " (" + text(client.program_version) + ") vs " + s + " " +
-           std::to_string(server.version_major) + "." + std::to_string(server.version_minor) +
-           " (" + text(server.program_version) + "); build both programs from the same source";
+    return "protocol major version differs: " + c + " " + std::to_string(client.version_major) +
+           "." + std::to_string(client.version_minor) + " (" + text(client.program_version) +
+           ") vs " + s + " " + std::to_string(server.version_major) + "." +
+           std::to_string(server.version_minor) + " (" + text(server.program_version) +
+           "); build both programs from the same source";
   }
 
   if (client.request_size != server.request_size || client.reply_size != server.reply_size) {
-    problems.push_back("wire struct sizes differ: " + c + " RveRequest " +
-                       std::to_string(client.request_size) + " B / RveReply " +
-                       std::to_string(client.reply_size) + " B vs " + s + " " +
-                       std::to_string(server.request_size) + " B / " +
-                       std::to_string(server.reply_size) +
-                       " B; build both programs with the same compiler and source");
+    problems.push_back(
+        "wire struct sizes differ: " + c + " RveRequest " + std::to_string(client.request_size) +
+        " B / RveReply " + std::to_string(client.reply_size) + " B vs " + s + " " +
+        std::to_string(server.request_size) + " B / " + std::to_string(server.reply_size) +
+        " B; build both programs with the same compiler and source");
   }
   if (server.n_rve != 0 && server.n_rve != client.n_rve) {
     problems.push_back("RVE count differs: " + c + " " + std::to_string(client.n_rve) +
-                       " material points vs " + s + " " + std::to_string(server.n_rve) +
-                       " RVEs");
+                       " material points vs " + s + " " + std::to_string(server.n_rve) + " RVEs");
   }
   if (client.n_partitions != server.n_partitions) {
     problems.push_back("partition count differs: " + c + " sees " +
-                       std::to_string(client.n_partitions) + " server ranks vs " + s +
-                       " runs on " + std::to_string(server.n_partitions));
+                       std::to_string(client.n_partitions) + " server ranks vs " + s + " runs on " +
+                       std::to_string(server.n_partitions));
   }
   if (const std::uint32_t unknown = client.outputs & ~protocol::kKnownOutputs) {
     problems.push_back(c + " asks for unknown outputs (bits " + output_names(unknown) + ")");
   }
   if (const std::uint32_t missing = client.outputs & protocol::kKnownOutputs & ~server.outputs) {
     problems.push_back("outputs requested by " + c + " (coupling.outputs: " +
-                       output_names(missing) + ") cannot be provided by " + s +
-                       " backend '" + text(server.backend) +
-                       "' (provides: " + output_names(server.outputs) + ")");
+                       output_names(missing) + ") cannot be provided by " + s + " backend '" +
+                       text(server.backend) + "' (provides: " + output_names(server.outputs) + ")");
   }
   if (text(client.backend) != text(server.backend)) {
     problems.push_back("backend differs: " + c + " scene says coupling.backend '" +
@@ -148,13 +144,12 @@ std::optional<std::string> check_compatible(const protocol::Hello& client,
 
 std::optional<std::string> minor_version_note(const protocol::Hello& client,
                                               const protocol::Hello& server) {
-  if (client.version_major != server.version_major ||
-      client.version_minor == server.version_minor)
+  if (client.version_major != server.version_major || client.version_minor == server.version_minor)
     return std::nullopt;
   return "note: protocol minor versions differ (" + side_name(client, "client") + " " +
-         std::to_string(client.version_major) + "." + std::to_string(client.version_minor) +
-         ", " + side_name(server, "server") + " " + std::to_string(server.version_major) +
-         "." + std::to_string(server.version_minor) +
+         std::to_string(client.version_major) + "." + std::to_string(client.version_minor) + ", " +
+         side_name(server, "server") + " " + std::to_string(server.version_major) + "." +
+         std::to_string(server.version_minor) +
          "); compatible, features newer than the older side are not used";
 }
 
@@ -183,7 +178,8 @@ HandshakeResult exchange_hello(MPI_Comm intercomm, bool is_client, const protoco
       r.client.version_major == r.server.version_major) {
     char my_label[kLabelSize] = {};
     char other_label[kLabelSize] = {};
-    std::memcpy(my_label, my_config.data(), std::min<std::size_t>(my_config.size(), kLabelSize - 1));
+    std::memcpy(my_label, my_config.data(),
+                std::min<std::size_t>(my_config.size(), kLabelSize - 1));
     if (is_client) {
       MPMDEM_CHECK_MPI(MPI_Bcast(my_label, kLabelSize, MPI_CHAR, send_root, intercomm));
       MPMDEM_CHECK_MPI(MPI_Bcast(other_label, kLabelSize, MPI_CHAR, 0, intercomm));

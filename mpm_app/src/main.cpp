@@ -27,8 +27,8 @@ int check_config(const std::string& file) {
   try {
     const Scene scene = load_scene(file);
     const Particles particles = generate_particles(scene);
-    std::cout << "OK: " << file << " (" << scene.regions.size() << " regions, "
-              << particles.size() << " points)" << std::endl;
+    std::cout << "OK: " << file << " (" << scene.regions.size() << " regions, " << particles.size()
+              << " points)" << std::endl;
     return 0;
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << std::endl;

@@ -9,8 +9,7 @@ std::string format_duration(double seconds) {
   if (!std::isfinite(seconds) || seconds < 0.0) return "?";
   const long long total = std::llround(seconds);
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%lld:%02lld:%02lld", total / 3600, (total / 60) % 60,
-                total % 60);
+  std::snprintf(buf, sizeof buf, "%lld:%02lld:%02lld", total / 3600, (total / 60) % 60, total % 60);
   return buf;
 }
 

@@ -71,9 +71,12 @@ const char* model_name(ModelKind kind) {
 
 const char* verification_name(VerificationKind kind) {
   switch (kind) {
-    case VerificationKind::kElasticColumn: return "elastic_column";
-    case VerificationKind::kBarVibration: return "bar_vibration";
-    case VerificationKind::kNone: break;
+    case VerificationKind::kElasticColumn:
+      return "elastic_column";
+    case VerificationKind::kBarVibration:
+      return "bar_vibration";
+    case VerificationKind::kNone:
+      break;
   }
   return "";
 }
@@ -84,9 +87,15 @@ double total_mass(const Particles& p) {
   return m;
 }
 
-bool finite(const Vec3& v) { return v.allFinite(); }
-bool finite(const Mat3& v) { return v.allFinite(); }
-bool finite(double v) { return std::isfinite(v); }
+bool finite(const Vec3& v) {
+  return v.allFinite();
+}
+bool finite(const Mat3& v) {
+  return v.allFinite();
+}
+bool finite(double v) {
+  return std::isfinite(v);
+}
 
 // Names the first non-finite value of the state, or returns "" if all are finite.
 std::string find_non_finite(const Particles& p) {
@@ -115,7 +124,9 @@ std::string format_seconds(double s) {
 
 }  // namespace
 
-void request_stop() { g_stop = 1; }
+void request_stop() {
+  g_stop = 1;
+}
 
 RunResult run_scene(const Scene& scene_in, const RunOptions& opt) {
   std::ostream& out = opt.out ? *opt.out : std::cout;
@@ -167,7 +178,8 @@ RunResult run_scene(const Scene& scene_in, const RunOptions& opt) {
     s.n_material_points = particles.size();
     if (opt.provider_factory) {
       const std::size_t n = particles.size();
-      solver = std::make_unique<Solver>(scene, std::move(particles), opt.provider_factory(scene, n));
+      solver =
+          std::make_unique<Solver>(scene, std::move(particles), opt.provider_factory(scene, n));
       create_run_directory(dir, opt.force);
       dir_created = true;
     } else if (scene.constitutive.model == ModelKind::kLinearElastic) {
@@ -199,9 +211,8 @@ RunResult run_scene(const Scene& scene_in, const RunOptions& opt) {
   s.mass_initial_kg = total_mass(P);
   out << "mpm_app " << MPMDEM_VERSION << ": scene '" << scene.name << "' (" << scene.source_file
       << ")\n"
-      << "  " << P.size() << " material points, cell size " << scene.grid.cell_size
-      << " m, model " << s.model << ", " << s.threads << " thread(s), end time "
-      << scene.solver.end_time << " s\n"
+      << "  " << P.size() << " material points, cell size " << scene.grid.cell_size << " m, model "
+      << s.model << ", " << s.threads << " thread(s), end time " << scene.solver.end_time << " s\n"
       << "  results: " << dir << std::endl;
 
   SignalGuard signals(opt.handle_signals);
@@ -243,7 +254,8 @@ RunResult run_scene(const Scene& scene_in, const RunOptions& opt) {
     last_frame_step = solver->step_count();
   };
   auto progress_state = [&] {
-    return ProgressState{solver->step_count(), solver->time(), scene.solver.end_time, last_dt,
+    return ProgressState{solver->step_count(),   solver->time(),
+                         scene.solver.end_time,  last_dt,
                          solver->energies().E_k, solver->initial_potential_energy()};
   };
 
@@ -260,8 +272,8 @@ RunResult run_scene(const Scene& scene_in, const RunOptions& opt) {
 
     const double frame_interval = scene.output.interval;
     const double energy_interval = scene.output.energy_interval;
-    double next_frame = frame_interval > 0.0 ? frame_interval
-                                             : std::numeric_limits<double>::infinity();
+    double next_frame =
+        frame_interval > 0.0 ? frame_interval : std::numeric_limits<double>::infinity();
     double next_energy = energy_interval > 0.0 ? energy_interval : 0.0;
     progress.start(solver->time());
 
@@ -271,7 +283,10 @@ RunResult run_scene(const Scene& scene_in, const RunOptions& opt) {
         out << "stop requested: stopping after step " << solver->step_count() << std::endl;
         break;
       }
+      const auto step_start = std::chrono::steady_clock::now();
       solver->step();
+      s.step_wall_time_s +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - step_start).count();
       const double t = solver->time();
       const double dt = solver->dt();
       last_dt = dt;
@@ -281,9 +296,8 @@ RunResult run_scene(const Scene& scene_in, const RunOptions& opt) {
         out << "time step: dt = " << format_seconds(dt) << " s" << std::endl;
         dt_logged = dt;
       } else if (std::abs(dt - dt_logged) > 0.1 * dt_logged) {
-        out << "time step: dt = " << format_seconds(dt) << " s from step "
-            << solver->step_count() << " (t=" << t << " s; was " << format_seconds(dt_logged)
-            << " s)" << std::endl;
+        out << "time step: dt = " << format_seconds(dt) << " s from step " << solver->step_count()
+            << " (t=" << t << " s; was " << format_seconds(dt_logged) << " s)" << std::endl;
         dt_logged = dt;
       }
       print_events();

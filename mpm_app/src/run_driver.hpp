@@ -25,12 +25,12 @@
 namespace mpmdem::mpm {
 
 struct RunOptions {
-  std::string out_dir;          // empty: runs/<scene>-<UTC timestamp>
-  int threads = 0;              // > 0: overrides solver.threads
-  bool force = false;           // reuse a directory that holds an earlier run
-  bool handle_signals = true;   // install SIGINT/SIGTERM handlers for the run
-  std::ostream* out = nullptr;  // progress and events (nullptr: std::cout)
-  std::ostream* err = nullptr;  // errors (nullptr: std::cerr)
+  std::string out_dir;                   // empty: runs/<scene>-<UTC timestamp>
+  int threads = 0;                       // > 0: overrides solver.threads
+  bool force = false;                    // reuse a directory that holds an earlier run
+  bool handle_signals = true;            // install SIGINT/SIGTERM handlers for the run
+  std::ostream* out = nullptr;           // progress and events (nullptr: std::cout)
+  std::ostream* err = nullptr;           // errors (nullptr: std::cerr)
   Particles* final_particles = nullptr;  // if set, receives a copy of the final state
   // If set, builds the constitutive provider instead of the scene's model (tests inject
   // faulty or instrumented providers through it).

@@ -50,7 +50,14 @@ Mat3 initial_stress(std::size_t p) {
   return s;
 }
 
-int arg_int(const std::string& v) { return std::atoi(v.c_str()); }
+// Step 2 asks for kFlagQueryOnly: the server must apply nothing.
+bool query_only(int step) {
+  return step == 2;
+}
+
+int arg_int(const std::string& v) {
+  return std::atoi(v.c_str());
+}
 
 }  // namespace
 
@@ -62,14 +69,22 @@ int main(int argc, char** argv) {
   double timeout = -1.0;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i], v = argv[i + 1];
-    if (k == "--scene") scene = v;
-    else if (k == "--run-dir") run_dir = v;
-    else if (k == "--n") n = static_cast<std::size_t>(arg_int(v));
-    else if (k == "--steps") steps = arg_int(v);
-    else if (k == "--checkpoint-at") checkpoint_at = arg_int(v);
-    else if (k == "--resume") resume = arg_int(v);
-    else if (k == "--abort-after") abort_after = arg_int(v);
-    else if (k == "--timeout") timeout = std::atof(v.c_str());
+    if (k == "--scene")
+      scene = v;
+    else if (k == "--run-dir")
+      run_dir = v;
+    else if (k == "--n")
+      n = static_cast<std::size_t>(arg_int(v));
+    else if (k == "--steps")
+      steps = arg_int(v);
+    else if (k == "--checkpoint-at")
+      checkpoint_at = arg_int(v);
+    else if (k == "--resume")
+      resume = arg_int(v);
+    else if (k == "--abort-after")
+      abort_after = arg_int(v);
+    else if (k == "--timeout")
+      timeout = std::atof(v.c_str());
     else {
       std::cerr << "rve_test_client: unknown option " << k << "\n";
       return 2;
@@ -120,7 +135,8 @@ int main(int argc, char** argv) {
 
     if (resume > 0) {
       for (int s = 1; s <= resume; ++s)
-        for (std::size_t p = 0; p < n; ++p) sigma[p] = law.update(sigma[p], dF_of(p, s));
+        for (std::size_t p = 0; p < n && !query_only(s); ++p)
+          sigma[p] = law.update(sigma[p], dF_of(p, s));
     } else {
       std::vector<mpmdem::protocol::RveInit> init(n);
       for (std::size_t p = 0; p < n; ++p) Eigen::Map<RowMajor3>(init[p].stress) = sigma[p];
@@ -129,13 +145,12 @@ int main(int argc, char** argv) {
 
     std::vector<mpmdem::protocol::RveRequest> req(n);
     for (int s = resume + 1; s <= steps; ++s) {
-      const bool query_only = s == resume + 2;  // one step that must change nothing
       for (std::size_t p = 0; p < n; ++p) {
         std::memset(&req[p], 0, sizeof req[p]);
         Eigen::Map<RowMajor3>(req[p].dF) = dF_of(p, s);
         req[p].dt = 1e-3;
-        req[p].flags = query_only ? mpmdem::protocol::kFlagQueryOnly : 0u;
-        if (!query_only) sigma[p] = law.update(sigma[p], dF_of(p, s));
+        req[p].flags = query_only(s) ? mpmdem::protocol::kFlagQueryOnly : 0u;
+        if (!query_only(s)) sigma[p] = law.update(sigma[p], dF_of(p, s));
       }
       mpmdem::protocol::ControlHeader h{};
       h.step = s;

@@ -110,8 +110,8 @@ Vtu parse_vtu(const fs::path& file) {
   const std::regex decl(
       "<DataArray type=\"(\\w+)\" Name=\"(\\w+)\"(?: NumberOfComponents=\"(\\d+)\")? "
       "format=\"appended\" offset=\"(\\d+)\"/>");
-  for (auto it = std::sregex_iterator(head.begin(), head.end(), decl);
-       it != std::sregex_iterator(); ++it) {
+  for (auto it = std::sregex_iterator(head.begin(), head.end(), decl); it != std::sregex_iterator();
+       ++it) {
     const std::string type = (*it)[1], name = (*it)[2];
     const int comps = (*it)[3].matched ? std::stoi((*it)[3]) : 1;
     const std::size_t offset = std::stoul((*it)[4]);
@@ -129,11 +129,16 @@ Vtu parse_vtu(const fs::path& file) {
         values.push_back(static_cast<double>(v));
       }
     };
-    if (type == "Float64") take(double{});
-    else if (type == "Int64") take(std::int64_t{});
-    else if (type == "Int32") take(std::int32_t{});
-    else if (type == "UInt8") take(std::uint8_t{});
-    else ADD_FAILURE() << "unexpected type " << type;
+    if (type == "Float64")
+      take(double{});
+    else if (type == "Int64")
+      take(std::int64_t{});
+    else if (type == "Int32")
+      take(std::int32_t{});
+    else if (type == "UInt8")
+      take(std::uint8_t{});
+    else
+      ADD_FAILURE() << "unexpected type " << type;
     vtu.components[name] = comps;
     vtu.arrays[name] = std::move(values);
   }
@@ -173,7 +178,9 @@ std::vector<std::vector<std::string>> read_csv(const fs::path& file) {
   return rows;
 }
 
-std::string source(const std::string& rel) { return std::string(MPMDEM_SOURCE_DIR) + "/" + rel; }
+std::string source(const std::string& rel) {
+  return std::string(MPMDEM_SOURCE_DIR) + "/" + rel;
+}
 
 // The elastic column scene cut to a few steps: enough to exercise every output.
 Scene short_column() {
@@ -208,8 +215,8 @@ TEST(VtkWriter, FramesParseBackWithTheValuesWritten) {
   const Vtu vtu = parse_vtu(dir.path() / "frame_00001.vtu");
   EXPECT_EQ(vtu.points, p.size());
   EXPECT_EQ(vtu.cells, p.size());
-  for (const char* name : {"position", "velocity", "displacement", "stress", "mass", "volume",
-                           "id", "Points", "connectivity", "offsets", "types"}) {
+  for (const char* name : {"position", "velocity", "displacement", "stress", "mass", "volume", "id",
+                           "Points", "connectivity", "offsets", "types"}) {
     ASSERT_TRUE(vtu.arrays.count(name)) << name;
     EXPECT_EQ(vtu.arrays.at(name).size(), p.size() * vtu.components.at(name)) << name;
   }
@@ -433,8 +440,7 @@ TEST(RunOutputs, ConfigErrorCreatesNoDirectory) {
   text += "\nno_such_key: 1\n";
   std::ofstream(bad) << text;
   const fs::path run = dir.path() / "run";
-  const std::string cmd =
-      app + " " + bad.string() + " --out " + run.string() + " > /dev/null 2>&1";
+  const std::string cmd = app + " " + bad.string() + " --out " + run.string() + " > /dev/null 2>&1";
   const int status = std::system(cmd.c_str());
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 2);
@@ -443,8 +449,8 @@ TEST(RunOutputs, ConfigErrorCreatesNoDirectory) {
   const std::string check = app + " --check-config " + bad.string() + " > /dev/null 2>&1";
   const int check_status = std::system(check.c_str());
   EXPECT_EQ(WEXITSTATUS(check_status), 2);
-  const std::string ok = app + " --check-config " + source("configs/elastic_column.yaml") +
-                         " > " + (dir.path() / "ok.txt").string() + " 2>&1";
+  const std::string ok = app + " --check-config " + source("configs/elastic_column.yaml") + " > " +
+                         (dir.path() / "ok.txt").string() + " 2>&1";
   EXPECT_EQ(WEXITSTATUS(std::system(ok.c_str())), 0);
   EXPECT_EQ(read_file(dir.path() / "ok.txt").rfind("OK: ", 0), 0u);
 }

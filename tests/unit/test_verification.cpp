@@ -53,7 +53,9 @@ std::string read_file(const std::string& p) {
   return s.str();
 }
 
-std::string source(const std::string& rel) { return std::string(MPMDEM_SOURCE_DIR) + "/" + rel; }
+std::string source(const std::string& rel) {
+  return std::string(MPMDEM_SOURCE_DIR) + "/" + rel;
+}
 
 double figure(const RunSummary& s, const std::string& key) {
   for (const auto& [k, v] : s.verification)
@@ -155,12 +157,11 @@ TEST(Verification, ElasticColumnMatchesTheStaticSolutionAndConservesMass) {
   const double stress = figure(r.summary, "stress_rel_error");
   const double settlement = figure(r.summary, "settlement_rel_error");
   std::cout << "elastic column: stress_rel_error " << stress << ", settlement_rel_error "
-            << settlement << ", " << r.summary.steps << " steps, "
-            << r.summary.n_material_points << " points\n";
+            << settlement << ", " << r.summary.steps << " steps, " << r.summary.n_material_points
+            << " points\n";
   EXPECT_LE(stress, 0.01);
   EXPECT_LE(settlement, 0.01);
-  EXPECT_NE(read_file(dir.str() + "/summary.json").find("\"stress_rel_error\""),
-            std::string::npos);
+  EXPECT_NE(read_file(dir.str() + "/summary.json").find("\"stress_rel_error\""), std::string::npos);
 
   // Mass: every point keeps its mass bit for bit, so the total is bitwise the same.
   const Particles initial = generate_particles(scene);
@@ -181,8 +182,8 @@ TEST(Verification, BarVibratesWithThePeriodOfItsFirstMode) {
   const double period = figure(r.summary, "period_s");
   const double expected = figure(r.summary, "period_expected_s");
   const double error = figure(r.summary, "period_rel_error");
-  std::cout << "bar vibration: period " << period << " s, expected " << expected
-            << " s, rel error " << error << "\n";
+  std::cout << "bar vibration: period " << period << " s, expected " << expected << " s, rel error "
+            << error << "\n";
   // 4 L / c with c = sqrt(M / rho): the scene's comment says 0.04876 s.
   EXPECT_NEAR(expected, 0.04876, 1e-4);
   EXPECT_GE(figure(r.summary, "zero_crossings"), 4.0);

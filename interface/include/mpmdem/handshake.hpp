@@ -20,10 +20,10 @@ namespace mpmdem {
 // What one side says about itself. For the server: n_rve = 0 means "whatever the client
 // says", outputs = the outputs its backend can provide (capability mask).
 struct HelloFields {
-  std::string program;          // "mpm_app", "dem_app", ...
-  std::string backend;          // client: coupling.backend of its scene; server: its backend
+  std::string program;  // "mpm_app", "dem_app", ...
+  std::string backend;  // client: coupling.backend of its scene; server: its backend
   std::uint64_t n_rve = 0;
-  int n_partitions = 0;         // client: remote group size; server: its rank count
+  int n_partitions = 0;  // client: remote group size; server: its rank count
   std::uint32_t outputs = 0;
   std::uint64_t config_hash = 0;
 };

@@ -15,14 +15,18 @@ namespace {
 
 using config::Config;
 
-Vec3 vec(const std::array<double, 3>& a) { return Vec3(a[0], a[1], a[2]); }
+Vec3 vec(const std::array<double, 3>& a) {
+  return Vec3(a[0], a[1], a[2]);
+}
 
 std::string text(const Vec3& v) {
   return "[" + config::format_number(v.x()) + ", " + config::format_number(v.y()) + ", " +
          config::format_number(v.z()) + "]";
 }
 
-int axis_index(const std::string& a) { return a == "x" ? 0 : a == "y" ? 1 : 2; }
+int axis_index(const std::string& a) {
+  return a == "x" ? 0 : a == "y" ? 1 : 2;
+}
 
 const char* const kAxis[] = {"x", "y", "z"};
 
@@ -44,9 +48,8 @@ GridParams load_grid(const Config& cfg) {
   for (int a = 0; a < 3; ++a) cells *= std::ceil(g.extent[a] / g.cell_size - 1e-9);
   if (cells > 2.0e8) {
     cfg.fail("grid.cell_size", config::format_number(g.cell_size) + " m gives " +
-                                   config::format_number(cells) +
-                                   " cells for grid.extent " + text(g.extent) +
-                                   "; use a larger cell size (at most 2e8 cells)");
+                                   config::format_number(cells) + " cells for grid.extent " +
+                                   text(g.extent) + "; use a larger cell size (at most 2e8 cells)");
   }
   return g;
 }
@@ -128,7 +131,8 @@ Walls load_walls(const Config& cfg) {
   if (any_friction && mu <= 0.0) {
     cfg.fail("walls.friction",
              "must be > 0 when a wall is of type friction (use slip for a frictionless "
-             "wall), got " + config::format_number(mu));
+             "wall), got " +
+                 config::format_number(mu));
   }
   return walls;
 }
@@ -150,9 +154,8 @@ std::vector<VelocityConstraintParams> load_constraints(const Config& cfg, const 
     for (int a = 0; a < 3; ++a) {
       const double k_hi = std::floor((p.max[a] - d.lo[a] + d.tol) / d.h);
       if (d.lo[a] + k_hi * d.h < p.min[a] - d.tol) {
-        c.fail("", "box " + text(p.min) + " .. " + text(p.max) +
-                       " contains no grid node along " + kAxis[a] +
-                       " (nodes are grid.origin + k grid.cell_size)");
+        c.fail("", "box " + text(p.min) + " .. " + text(p.max) + " contains no grid node along " +
+                       kAxis[a] + " (nodes are grid.origin + k grid.cell_size)");
       }
     }
     p.value = vec(c.vec3("value"));
@@ -173,8 +176,8 @@ std::vector<VelocityConstraintParams> load_constraints(const Config& cfg, const 
 SolverParams load_solver(const Config& cfg) {
   SolverParams s;
   s.scheme = cfg.string("solver.scheme") == "usl" ? Scheme::kUSL : Scheme::kMUSL;
-  s.shape = cfg.string("solver.shape") == "bspline2" ? ShapeKind::kQuadraticBSpline
-                                                     : ShapeKind::kLinear;
+  s.shape =
+      cfg.string("solver.shape") == "bspline2" ? ShapeKind::kQuadraticBSpline : ShapeKind::kLinear;
   s.flip = cfg.number("solver.flip");
   s.cfl = cfg.number("solver.cfl");
   s.dt_max = cfg.number("solver.dt_max");

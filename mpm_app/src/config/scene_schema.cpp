@@ -19,9 +19,9 @@ void add_scene_keys(config::Schema& s) {
 }
 
 void add_grid_keys(config::Schema& s) {
-  s.add(key("grid", Type::kMap, "",
-            "background grid: a box of cubic cells; its faces are the walls")
-            .req());
+  s.add(
+      key("grid", Type::kMap, "", "background grid: a box of cubic cells; its faces are the walls")
+          .req());
   s.add(key("grid.origin", Type::kVec3, "m", "lower corner of the domain").def("[0, 0, 0]"));
   s.add(key("grid.extent", Type::kVec3, "m", "size of the domain; rounded up to whole cells")
             .req()
@@ -36,8 +36,7 @@ void add_region_keys(config::Schema& s) {
   s.add(key("regions[].name", Type::kString, "", "label; region<i> if empty").def("''"));
   s.add(key("regions[].min", Type::kVec3, "m", "lower corner of the box").req());
   s.add(key("regions[].max", Type::kVec3, "m", "upper corner of the box").req());
-  s.add(key("regions[].points_per_cell", Type::kInt, "-",
-            "material points per cell per direction")
+  s.add(key("regions[].points_per_cell", Type::kInt, "-", "material points per cell per direction")
             .def("2")
             .ge(1)
             .le(8));
@@ -126,9 +125,8 @@ void add_solver_keys(config::Schema& s) {
             .def("0.5")
             .gt(0)
             .le(1));
-  s.add(key("solver.dt_max", Type::kDouble, "s", "cap on the automatic time step")
-            .def("1e-3")
-            .gt(0));
+  s.add(
+      key("solver.dt_max", Type::kDouble, "s", "cap on the automatic time step").def("1e-3").gt(0));
   s.add(key("solver.end_time", Type::kDouble, "s", "simulated time to run").req().gt(0));
   s.add(key("solver.gravity", Type::kVec3, "m/s^2", "gravitational acceleration")
             .def("[0, 0, -9.81]"));
@@ -155,8 +153,7 @@ void add_constitutive_keys(config::Schema& s) {
             .one_of({"linear_elastic", "remote"}));
   s.add(key("constitutive.linear_elastic", Type::kMap, "",
             "isotropic linear elasticity with an objective update (model linear_elastic)"));
-  s.add(key("constitutive.linear_elastic.youngs_modulus", Type::kDouble, "Pa",
-            "Young's modulus E")
+  s.add(key("constitutive.linear_elastic.youngs_modulus", Type::kDouble, "Pa", "Young's modulus E")
             .req()
             .gt(0));
   s.add(key("constitutive.linear_elastic.poisson_ratio", Type::kDouble, "-", "Poisson's ratio nu")

@@ -114,8 +114,7 @@ class RemoteProvider : public ConstitutiveProvider {
 
 }  // namespace
 
-std::unique_ptr<ConstitutiveProvider> make_remote_provider(const Scene& scene,
-                                                           std::size_t n_points,
+std::unique_ptr<ConstitutiveProvider> make_remote_provider(const Scene& scene, std::size_t n_points,
                                                            const std::string& run_dir) {
   return std::make_unique<RemoteProvider>(scene, n_points, run_dir);
 }

@@ -1,7 +1,7 @@
 // energies.csv: the energy time series of a run, one row per logged step, first row at t=0.
 // Columns: time [s], step, dt [s] (the step that led to this row; 0 on the first row),
-// E_p = -sum m g.x (sum m g z for gravity along -z), E_k = sum 1/2 m v^2, E_d = E_p0 - E_p - E_k (energy
-// dissipated, plus elastic energy stored), E_strain (elastic strain energy where the model
+// E_p = -sum m g.x (sum m g z for gravity along -z), E_k = sum 1/2 m v^2, E_d = E_p0 - E_p - E_k
+// (energy dissipated, plus elastic energy stored), E_strain (elastic strain energy where the model
 // defines it, else 0), E_p0 (potential energy at t=0) — all in J.
 // Rows are appended and flushed as the run goes, so a long run can be watched.
 #pragma once

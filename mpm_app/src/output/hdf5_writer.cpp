@@ -35,11 +35,11 @@ void check(herr_t status, const std::string& what) {
 
 void write_dataset(hid_t file, const std::string& name, hid_t type,
                    const std::vector<hsize_t>& dims, const void* data) {
-  Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr),
-               H5Sclose, "create dataspace for " + name);
-  Handle set(H5Dcreate2(file, name.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT,
-                        H5P_DEFAULT),
-             H5Dclose, "create dataset " + name);
+  Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose,
+               "create dataspace for " + name);
+  Handle set(
+      H5Dcreate2(file, name.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+      H5Dclose, "create dataset " + name);
   check(H5Dwrite(set.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "write dataset " + name);
 }
 
@@ -60,8 +60,8 @@ std::vector<double> flatten(const std::vector<V>& values, int comps) {
 
 void write_attribute(hid_t loc, const std::string& name, hid_t type, const void* value) {
   Handle space(H5Screate(H5S_SCALAR), H5Sclose, "create attribute space");
-  Handle attr(H5Acreate2(loc, name.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT),
-              H5Aclose, "create attribute " + name);
+  Handle attr(H5Acreate2(loc, name.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
+              "create attribute " + name);
   check(H5Awrite(attr.get(), type, value), "write attribute " + name);
 }
 

@@ -49,8 +49,7 @@ void create_run_directory(const std::string& dir, bool force) {
       const std::string name = entry.path().filename().string();
       const bool old_output = name == "summary.json" || name == "energies.csv" ||
                               name == "final_state.h5" || name == "frames.pvd" ||
-                              (name.rfind("frame_", 0) == 0 &&
-                               entry.path().extension() == ".vtu");
+                              (name.rfind("frame_", 0) == 0 && entry.path().extension() == ".vtu");
       if (old_output) fs::remove(entry.path(), ec);
     }
   }

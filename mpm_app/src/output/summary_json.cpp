@@ -14,11 +14,21 @@ std::string quote(const std::string& s) {
   std::string out = "\"";
   for (char c : s) {
     switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\r': out += "\\r"; break;
-      case '\t': out += "\\t"; break;
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\r':
+        out += "\\r";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
       default:
         if (static_cast<unsigned char>(c) < 0x20) {
           char buf[8];
@@ -71,10 +81,14 @@ std::string to_json(const RunSummary& s) {
   w.str("model", s.model);
   w.str("program_version", s.program_version);
   w.num("wall_time_s", s.wall_time_s);
+  w.num("step_wall_time_s", s.step_wall_time_s);
   w.integer("steps", s.steps);
   w.integer("n_material_points", static_cast<long long>(s.n_material_points));
   w.integer("removed_points", static_cast<long long>(s.removed_points));
   w.integer("threads", s.threads);
+  const double point_steps =
+      static_cast<double>(s.steps) * static_cast<double>(s.n_material_points);
+  w.num("ns_per_point_step", point_steps > 0.0 ? 1e9 * s.step_wall_time_s / point_steps : 0.0);
   w.num("time_s", s.time_s);
   w.num("end_time_s", s.end_time_s);
   w.num("dt_min_s", s.dt_min_s);

@@ -3,6 +3,8 @@
 //   error              what stopped a failed run (absent otherwise)
 //   scene, config_file, run_directory, model, program_version
 //   wall_time_s, steps, n_material_points, removed_points, threads
+//   step_wall_time_s   wall time inside the solver's steps only (no set-up, no output)
+//   ns_per_point_step  step_wall_time_s / (steps * n_material_points) in ns
 //   time_s, end_time_s, dt_min_s, dt_max_s
 //   mass_initial_kg, mass_final_kg, E_p0_J, E_p_J, E_k_J, E_d_J, E_d_over_E_p0
 //   verification       {"kind": ..., <error figures of that kind>} (absent for kind none)
@@ -25,6 +27,7 @@ struct RunSummary {
   std::string model;
   std::string program_version;
   double wall_time_s = 0.0;
+  double step_wall_time_s = 0.0;
   std::int64_t steps = 0;
   std::size_t n_material_points = 0;
   std::size_t removed_points = 0;
@@ -38,7 +41,7 @@ struct RunSummary {
   double E_p0_J = 0.0;
   double E_p_J = 0.0;
   double E_k_J = 0.0;
-  std::string verification_kind;  // empty: none
+  std::string verification_kind;                             // empty: none
   std::vector<std::pair<std::string, double>> verification;  // figure name -> value
 };
 

@@ -145,7 +145,9 @@ void write_vtu(const std::string& path, const Particles& p) {
 VtkSeries::VtkSeries(std::string dir, std::string prefix)
     : dir_(std::move(dir)), prefix_(std::move(prefix)) {}
 
-std::string VtkSeries::pvd_path() const { return dir_ + "/" + prefix_ + "s.pvd"; }
+std::string VtkSeries::pvd_path() const {
+  return dir_ + "/" + prefix_ + "s.pvd";
+}
 
 std::string VtkSeries::write_frame(const Particles& p, double time) {
   char name[64];

@@ -35,8 +35,8 @@ ElasticModuli scene_elastic_moduli(const Scene& scene);
 struct ElasticColumnResult {
   double stress_rel_error = 0.0;
   double settlement_rel_error = 0.0;
-  double settlement_top_m = 0.0;           // mean u_p of the top layer
-  double settlement_top_expected_m = 0.0;  // mean u(Z_p) over the same points
+  double settlement_top_m = 0.0;               // mean u_p of the top layer
+  double settlement_top_expected_m = 0.0;      // mean u(Z_p) over the same points
   double settlement_surface_expected_m = 0.0;  // rho g H^2 / (2M)
   std::size_t top_layer_points = 0;
 };

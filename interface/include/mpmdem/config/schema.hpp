@@ -53,13 +53,38 @@ struct KeySpec {
   bool max_exclusive = false;  // value must be < max instead of <= max
 
   // Fluent setters for readable declarations (see key() below).
-  KeySpec& def(std::string yaml) { default_yaml = std::move(yaml); return *this; }
-  KeySpec& req() { required = true; return *this; }
-  KeySpec& ge(double v) { min = v; min_exclusive = false; return *this; }
-  KeySpec& gt(double v) { min = v; min_exclusive = true; return *this; }
-  KeySpec& le(double v) { max = v; max_exclusive = false; return *this; }
-  KeySpec& lt(double v) { max = v; max_exclusive = true; return *this; }
-  KeySpec& one_of(std::vector<std::string> c) { choices = std::move(c); return *this; }
+  KeySpec& def(std::string yaml) {
+    default_yaml = std::move(yaml);
+    return *this;
+  }
+  KeySpec& req() {
+    required = true;
+    return *this;
+  }
+  KeySpec& ge(double v) {
+    min = v;
+    min_exclusive = false;
+    return *this;
+  }
+  KeySpec& gt(double v) {
+    min = v;
+    min_exclusive = true;
+    return *this;
+  }
+  KeySpec& le(double v) {
+    max = v;
+    max_exclusive = false;
+    return *this;
+  }
+  KeySpec& lt(double v) {
+    max = v;
+    max_exclusive = true;
+    return *this;
+  }
+  KeySpec& one_of(std::vector<std::string> c) {
+    choices = std::move(c);
+    return *this;
+  }
 };
 
 // Start a declaration: key("solver.cfl", Type::kDouble, "-", "Courant number").
@@ -80,8 +105,7 @@ std::string range_text(const KeySpec& spec);
 // A user/config fault: names what to change. Exit code 2 in the programs.
 class ConfigError : public std::runtime_error {
  public:
-  ConfigError(const std::string& file, int line, const std::string& key,
-              const std::string& what);
+  ConfigError(const std::string& file, int line, const std::string& key, const std::string& what);
   const std::string& file() const { return file_; }
   int line() const { return line_; }
   const std::string& key() const { return key_; }

@@ -1,0 +1,312 @@
+#include "solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "mpmdem/protocol.hpp"
+#include "particle_init.hpp"
+#include "time_step.hpp"
+
+namespace mpmdem::mpm {
+
+namespace {
+
+// Keep the entries of v whose mask is set (only vectors that hold one entry per point).
+template <class T>
+void compact(std::vector<T>& v, const std::vector<char>& keep) {
+  if (v.size() != keep.size()) return;
+  std::size_t j = 0;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (keep[i]) v[j++] = v[i];
+  }
+  v.resize(j);
+}
+
+template <class T>
+void fill_if_empty(std::vector<T>& v, std::size_t n, const T& value) {
+  if (v.empty()) v.assign(n, value);
+  if (v.size() != n) {
+    throw std::invalid_argument("Solver: a particle field has " + std::to_string(v.size()) +
+                                " entries for " + std::to_string(n) + " points");
+  }
+}
+
+const char* status_name(std::int32_t s) {
+  switch (static_cast<protocol::RveStatus>(s)) {
+    case protocol::RveStatus::kOk:
+      return "ok";
+    case protocol::RveStatus::kNoContacts:
+      return "no contacts";
+    case protocol::RveStatus::kNonFinite:
+      return "non-finite (NaN/Inf inside the RVE)";
+    case protocol::RveStatus::kExploding:
+      return "exploding (RVE kinetic energy blew up)";
+    case protocol::RveStatus::kBackendError:
+      return "backend error";
+  }
+  return "unknown";
+}
+
+bool fatal_status(std::int32_t s) {
+  return s == static_cast<std::int32_t>(protocol::RveStatus::kNonFinite) ||
+         s == static_cast<std::int32_t>(protocol::RveStatus::kExploding) ||
+         s == static_cast<std::int32_t>(protocol::RveStatus::kBackendError);
+}
+
+std::string vec(const Vec3& x) {
+  std::ostringstream s;
+  s << "(" << x[0] << ", " << x[1] << ", " << x[2] << ")";
+  return s.str();
+}
+
+}  // namespace
+
+Solver::Solver(const Scene& scene, Particles particles,
+               std::unique_ptr<ConstitutiveProvider> provider)
+    : scene_(scene),
+      p_(std::move(particles)),
+      provider_(std::move(provider)),
+      grid_(scene.grid),
+      bc_(scene, grid_) {
+  if (!provider_) throw std::invalid_argument("Solver: no constitutive provider");
+  const std::size_t n = p_.size();
+  fill_if_empty(p_.id, n, std::int64_t{0});
+  fill_if_empty(p_.region, n, 0);
+  fill_if_empty(p_.V, n, 0.0);
+  fill_if_empty(p_.x, n, Vec3(Vec3::Zero()));
+  fill_if_empty(p_.v, n, Vec3(Vec3::Zero()));
+  if (p_.V0.empty()) p_.V0 = p_.V;
+  if (p_.x0.empty()) p_.x0 = p_.x;
+  fill_if_empty(p_.V0, n, 0.0);
+  fill_if_empty(p_.x0, n, Vec3(Vec3::Zero()));
+  fill_if_empty(p_.F, n, Mat3(Mat3::Identity()));
+  fill_if_empty(p_.dF, n, Mat3(Mat3::Identity()));
+  fill_if_empty(p_.sigma, n, Mat3(Mat3::Zero()));
+  fill_if_empty(p_.stiffness, n, 0.0);
+  fill_if_empty(p_.strain_energy, n, 0.0);
+  fill_if_empty(p_.status, n, std::int32_t{0});
+  if (scene_.constitutive.model == ModelKind::kRemote) {
+    const std::uint32_t out = scene_.coupling.outputs;
+    if (out & protocol::kOutputRotation) p_.rotation.assign(n, Vec3::Zero());
+    if (out & protocol::kOutputPorosity) p_.porosity.assign(n, 0.0);
+    if (out & protocol::kOutputCoordination) p_.coordination.assign(n, 0.0);
+    if (out & protocol::kOutputUnbalancedForce) p_.unbalanced_force.assign(n, 0.0);
+  } else {
+    law_ =
+        elastic::ElasticLaw{scene_.constitutive.youngs_modulus, scene_.constitutive.poisson_ratio};
+  }
+
+  // Nodes lighter than a 1e-12 fraction of the lightest point are empty.
+  double m_min = 0.0;
+  if (n > 0) m_min = *std::min_element(p_.m.begin(), p_.m.end());
+  grid_.mass_floor = 1e-12 * m_min;
+
+  slot_.resize(n);
+  for (std::size_t q = 0; q < n; ++q) slot_[q] = q;
+  dF_slots_.assign(n, Mat3::Identity());
+
+  provider_->initialise(initial_stresses(scene_, p_), responses_);
+  if (responses_.size() != n) {
+    throw SimulationError("constitutive provider '" + provider_->name() + "' initialised " +
+                          std::to_string(responses_.size()) + " points, expected " +
+                          std::to_string(n));
+  }
+  apply_responses();
+  handle_points_outside_grid();
+  E_p0_ = energies().E_p;
+  dt_next_ = stable_time_step(p_, grid_.h, scene_.solver.cfl, scene_.solver.dt_max);
+}
+
+bool Solver::finished() const {
+  const double end = scene_.solver.end_time;
+  return time_ >= end - 1e-12 * std::abs(end);
+}
+
+Energies Solver::energies() const {
+  return compute_energies(p_, scene_.solver.gravity);
+}
+
+std::vector<std::string> Solver::take_events() {
+  std::vector<std::string> e;
+  e.swap(events_);
+  return e;
+}
+
+void Solver::step() {
+  handle_points_outside_grid();
+  const double dt = dt_next_;
+  if (scene_.solver.shape == ShapeKind::kQuadraticBSpline) {
+    step_with<QuadraticBSplineShape>(stencils_quadratic_, dt);
+  } else {
+    step_with<LinearShape>(stencils_linear_, dt);
+  }
+}
+
+template <class Shape>
+void Solver::step_with(Stencils<Shape::kWidth>& stencils, double dt) {
+  const SolverParams& sp = scene_.solver;
+  const std::int64_t step = step_ + 1;
+
+  // Shape functions at x_p^n, used by every transfer of this step.
+  compute_stencils<Shape>(grid_, p_.x, stencils);
+  // Project mass, momentum and internal force to the grid.
+  p2g(p_, stencils, grid_, buffers_);
+  // Integrate the grid momentum; enforce walls and velocity constraints.
+  grid_update(grid_, sp.gravity, sp.local_damping, dt);
+  bc_.apply(grid_.v_i);
+  // Update point velocities (PIC/FLIP) and positions; MUSL re-projects the new momentum.
+  const bool musl = sp.scheme == Scheme::kMUSL;
+  g2p(p_, stencils, grid_, sp.flip, dt, musl, buffers_);
+  if (musl) {
+    grid_velocity_from_momentum(grid_);
+    bc_.apply(grid_.v_i);
+  }
+  // Velocity gradient -> dF_p, F_p, V_p.
+  const std::size_t bad = update_deformation(p_, stencils, grid_, dt);
+  if (bad != kNoPoint) {
+    std::ostringstream msg;
+    msg << describe_point(bad) << " inverted or degenerated at step " << step
+        << " (det dF = " << p_.dF[bad].determinant() << ", dt = " << dt
+        << " s): reduce solver.cfl or solver.dt_max, or check the material parameters";
+    throw SimulationError(msg.str());
+  }
+  // Stresses for the whole batch in one call.
+  const auto n = static_cast<std::ptrdiff_t>(p_.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t q = 0; q < n; ++q) dF_slots_[slot_[q]] = p_.dF[q];
+  provider_->update(dF_slots_, dt, step, time_ + dt, responses_);
+  if (responses_.size() != dF_slots_.size()) {
+    throw SimulationError("constitutive provider '" + provider_->name() + "' returned " +
+                          std::to_string(responses_.size()) + " responses for " +
+                          std::to_string(dF_slots_.size()) + " points at step " +
+                          std::to_string(step));
+  }
+  time_ += dt;
+  step_ = step;
+  dt_ = dt;
+  apply_responses();
+
+  // Time step of the next step; constraints whose release condition holds now.
+  dt_next_ = stable_time_step(p_, grid_.h, sp.cfl, sp.dt_max);
+  if (bc_.constraint_count() > 0) {
+    const double E_k = bc_.needs_kinetic_energy() ? energies().E_k : 0.0;
+    bc_.update_releases(time_, E_k, E_p0_, events_);
+  }
+}
+
+std::string Solver::describe_point(std::size_t q) const {
+  std::ostringstream s;
+  s << "material point " << p_.id[q] << " (x = " << vec(p_.x[q]) << ", initial position "
+    << vec(p_.x0[q]) << ")";
+  return s.str();
+}
+
+void Solver::apply_responses() {
+  const auto n = static_cast<std::ptrdiff_t>(p_.size());
+  const bool rotation = p_.rotation.size() == p_.size();
+  const bool porosity = p_.porosity.size() == p_.size();
+  const bool coordination = p_.coordination.size() == p_.size();
+  const bool unbalanced = p_.unbalanced_force.size() == p_.size();
+  std::size_t bad = kNoPoint;
+#pragma omp parallel for schedule(static) reduction(min : bad)
+  for (std::ptrdiff_t q = 0; q < n; ++q) {
+    const PointResponse& r = responses_[slot_[q]];
+    if (!r.stress.allFinite() || !std::isfinite(r.stiffness) || fatal_status(r.status)) {
+      bad = std::min(bad, static_cast<std::size_t>(q));
+      continue;
+    }
+    p_.sigma[q] = r.stress;
+    p_.stiffness[q] = r.stiffness;
+    p_.status[q] = r.status;
+    if (rotation) p_.rotation[q] = r.rotation;
+    if (porosity) p_.porosity[q] = r.porosity;
+    if (coordination) p_.coordination[q] = r.coordination;
+    if (unbalanced) p_.unbalanced_force[q] = r.unbalanced_force;
+    p_.strain_energy[q] = law_ ? p_.V[q] * law_->strain_energy_density(r.stress) : 0.0;
+  }
+  if (bad == kNoPoint) return;
+  const PointResponse& r = responses_[slot_[bad]];
+  std::ostringstream msg;
+  msg << "constitutive provider '" << provider_->name() << "' ";
+  if (fatal_status(r.status)) {
+    msg << "reports status " << r.status << " (" << status_name(r.status) << ") for ";
+  } else if (!r.stress.allFinite()) {
+    msg << "returned a non-finite stress for ";
+  } else {
+    msg << "returned a non-finite stiffness (" << r.stiffness << ") for ";
+  }
+  msg << describe_point(bad) << " at step " << step_ << " (t=" << time_ << " s)";
+  throw SimulationError(msg.str());
+}
+
+void Solver::handle_points_outside_grid() {
+  const auto n = static_cast<std::ptrdiff_t>(p_.size());
+  std::size_t first = kNoPoint;
+  std::size_t count = 0;
+#pragma omp parallel for schedule(static) reduction(min : first) reduction(+ : count)
+  for (std::ptrdiff_t q = 0; q < n; ++q) {
+    if (!grid_.contains(p_.x[q])) {
+      first = std::min(first, static_cast<std::size_t>(q));
+      ++count;
+    }
+  }
+  if (count == 0) return;
+  auto outside = [this](std::size_t q) {
+    return ": x = " + vec(p_.x[q]) + " is outside the grid box " + vec(grid_.origin) + " to " +
+           vec(grid_.upper());
+  };
+  if (scene_.solver.on_exit == OnExit::kError) {
+    std::ostringstream msg;
+    msg << "material point " << p_.id[first]
+        << (step_ == 0 ? std::string(" is outside the grid at the start")
+                       : " left the grid during step " + std::to_string(step_))
+        << outside(first) << " (initial position " << vec(p_.x0[first]) << ")";
+    if (count > 1) msg << "; " << count - 1 << " more point(s) too";
+    msg << ". Enlarge grid.extent (or move grid.origin), or set solver.on_exit: remove";
+    throw SimulationError(msg.str());
+  }
+  std::vector<char> keep(p_.size(), 1);
+  constexpr std::size_t kMaxEvents = 20;
+  std::size_t reported = 0;
+  for (std::size_t q = first; q < p_.size(); ++q) {
+    if (grid_.contains(p_.x[q])) continue;
+    keep[q] = 0;
+    dF_slots_[slot_[q]] = Mat3::Identity();  // its provider slot idles from now on
+    if (reported++ < kMaxEvents) {
+      events_.push_back("removed point " + std::to_string(p_.id[q]) + " at step " +
+                        std::to_string(step_) + " (left the grid" + outside(q) + ")");
+    }
+  }
+  if (reported > kMaxEvents) {
+    events_.push_back("removed " + std::to_string(reported - kMaxEvents) +
+                      " more point(s) at step " + std::to_string(step_) + " (left the grid)");
+  }
+  removed_ += count;
+  remove_points(keep);
+}
+
+void Solver::remove_points(const std::vector<char>& keep) {
+  compact(p_.id, keep);
+  compact(p_.region, keep);
+  compact(p_.m, keep);
+  compact(p_.V, keep);
+  compact(p_.V0, keep);
+  compact(p_.x, keep);
+  compact(p_.x0, keep);
+  compact(p_.v, keep);
+  compact(p_.F, keep);
+  compact(p_.dF, keep);
+  compact(p_.sigma, keep);
+  compact(p_.stiffness, keep);
+  compact(p_.strain_energy, keep);
+  compact(p_.rotation, keep);
+  compact(p_.porosity, keep);
+  compact(p_.coordination, keep);
+  compact(p_.unbalanced_force, keep);
+  compact(p_.status, keep);
+  compact(slot_, keep);
+}
+
+}  // namespace mpmdem::mpm

@@ -1,0 +1,108 @@
+// The explicit MPM solver: one call to step() advances the points by one time step.
+//
+// One step (shape functions evaluated once per point at x_p^n):
+//   0 Points outside the grid: SimulationError (solver.on_exit: error) or removed (remove).
+//   1 P2G      m_i = sum N_ip m_p,  mv_i = sum N_ip m_p v_p,  f_i = -sum V_p sigma_p grad N_ip
+//   2 Grid     v0_i = mv_i / m_i;  f_i += m_i g;  local damping f_i -= alpha |f_i| sign(v0_i);
+//              v_i = v0_i + dt f_i / m_i;  walls and active velocity constraints on v_i.
+//   3 G2P      v_p = flip (v_p + sum N (v_i - v0_i)) + (1 - flip) sum N v_i
+//              x_p += dt sum N v_i
+//   4 Velocity gradient
+//       MUSL (default): mv_i = sum N m_p v_p (re-projected), v_i = mv_i / m_i, BCs again,
+//                       grad v_p = sum v_i (x) grad N_ip. The stress sees the velocity field
+//                       of the updated points (smoother, less prone to cell-crossing noise).
+//       USL:            grad v_p from the v_i of step 2 (one transfer fewer).
+//     dF_p = I + dt grad v_p;  F_p = dF_p F_p;  V_p = det(dF_p) V_p.
+//   5 Stress   provider->update(dF of all points) in one batched call; stress, stiffness and
+//              outputs copied to the points; non-finite stress or a fatal RVE status:
+//              SimulationError naming the point and the step.
+//   6 Next dt  min(dt_max, cfl h / max_p (sqrt(M_p / rho_p) + |v_p|)); constraint releases.
+//
+// The FLIP increment uses v0_i before the boundary conditions, so a wall or a prescribed
+// velocity also changes the point velocities by exactly the impulse it applies to the grid.
+//
+// Removed points (on_exit: remove) are taken out of particles() (so outputs and energies see
+// only the points in the grid); the provider keeps its batch size: every point has a fixed
+// provider slot (its index at construction) and the slots of removed points receive dF = I.
+// Mass is conserved exactly: m_p never changes.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "boundary_conditions.hpp"
+#include "constitutive/elastic_law.hpp"
+#include "constitutive/provider.hpp"
+#include "energies.hpp"
+#include "errors.hpp"
+#include "grid.hpp"
+#include "particles.hpp"
+#include "scene.hpp"
+#include "shape_functions.hpp"
+#include "transfers.hpp"
+
+namespace mpmdem::mpm {
+
+class Solver {
+ public:
+  // Calls provider->initialise(initial_stresses(scene, particles)) and keeps the responses,
+  // checks the points are inside the grid, records E_p0 and the first time step.
+  Solver(const Scene& scene, Particles particles, std::unique_ptr<ConstitutiveProvider> provider);
+
+  // One explicit step. Throws SimulationError (the run must stop).
+  void step();
+
+  double time() const { return time_; }
+  std::int64_t step_count() const { return step_; }
+  // Time step used by the last step (before the first step: the one the first step will use).
+  double dt() const { return step_ > 0 ? dt_ : dt_next_; }
+  // Time step the next step will use.
+  double next_dt() const { return dt_next_; }
+  bool finished() const;
+
+  const Particles& particles() const { return p_; }
+  const Grid& grid() const { return grid_; }
+  const Scene& scene() const { return scene_; }
+  const BoundaryConditions& boundary_conditions() const { return bc_; }
+
+  Energies energies() const;
+  double initial_potential_energy() const { return E_p0_; }
+  // Human-readable events since the last call (constraint releases, removed points).
+  std::vector<std::string> take_events();
+
+  ConstitutiveProvider& provider() { return *provider_; }
+  std::size_t removed_points() const { return removed_; }
+
+ private:
+  template <class Shape>
+  void step_with(Stencils<Shape::kWidth>& stencils, double dt);
+  void handle_points_outside_grid();
+  void remove_points(const std::vector<char>& keep);
+  void apply_responses();
+  std::string describe_point(std::size_t q) const;
+
+  Scene scene_;
+  Particles p_;
+  std::unique_ptr<ConstitutiveProvider> provider_;
+  Grid grid_;
+  BoundaryConditions bc_;
+  ScatterBuffers buffers_;
+  Stencils<LinearShape::kWidth> stencils_linear_;
+  Stencils<QuadraticBSplineShape::kWidth> stencils_quadratic_;
+  std::vector<std::size_t> slot_;  // provider slot of each point
+  std::vector<Mat3> dF_slots_;     // batch sent to the provider (identity on removed slots)
+  std::vector<PointResponse> responses_;
+  std::optional<elastic::ElasticLaw> law_;  // strain energy (linear_elastic only)
+  double time_ = 0.0;
+  double dt_ = 0.0;
+  double dt_next_ = 0.0;
+  std::int64_t step_ = 0;
+  double E_p0_ = 0.0;
+  std::size_t removed_ = 0;
+  std::vector<std::string> events_;
+};
+
+}  // namespace mpmdem::mpm

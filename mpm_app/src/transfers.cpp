@@ -1,0 +1,214 @@
+#include "transfers.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+namespace mpmdem::mpm {
+
+namespace {
+
+// Calls fn(node, N_ip, grad N_ip) for the W^3 nodes of a stencil.
+template <int W, class Fn>
+inline void for_each_node(const Grid& g, const Stencil<W>& s, Fn&& fn) {
+  const std::size_t sy = static_cast<std::size_t>(g.nodes[0]);
+  const std::size_t sz = sy * static_cast<std::size_t>(g.nodes[1]);
+  const std::size_t first = g.index(s.base[0], s.base[1], s.base[2]);
+  for (int c = 0; c < W; ++c) {
+    for (int b = 0; b < W; ++b) {
+      const std::size_t row =
+          first + static_cast<std::size_t>(b) * sy + static_cast<std::size_t>(c) * sz;
+      const double wyz = s.w[1][b] * s.w[2][c];
+      const double dyz = s.dw[1][b] * s.w[2][c];
+      const double ydz = s.w[1][b] * s.dw[2][c];
+      for (int a = 0; a < W; ++a) {
+        const Vec3 grad(s.dw[0][a] * wyz, s.w[0][a] * dyz, s.w[0][a] * ydz);
+        fn(row + static_cast<std::size_t>(a), s.w[0][a] * wyz, grad);
+      }
+    }
+  }
+}
+
+// Sum the per-thread copies of threads 1..used-1 into the grid field (inside a parallel region).
+template <class T>
+void reduce_into(std::vector<T>& field, std::vector<std::vector<T>>& copies, int used) {
+  const auto n = static_cast<std::ptrdiff_t>(field.size());
+#pragma omp for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    for (int t = 1; t < used; ++t) field[i] += copies[t - 1][i];
+  }
+}
+
+}  // namespace
+
+void ScatterBuffers::resize(std::size_t nodes, int threads) {
+  const auto copies = static_cast<std::size_t>(std::max(0, threads - 1));
+  m.resize(copies);
+  mv.resize(copies);
+  f.resize(copies);
+  for (std::size_t t = 0; t < copies; ++t) {
+    m[t].resize(nodes);
+    mv[t].resize(nodes);
+    f[t].resize(nodes);
+  }
+}
+
+template <class Shape>
+void compute_stencils(const Grid& grid, const std::vector<Vec3>& x_p, Stencils<Shape::kWidth>& s) {
+  s.resize(x_p.size());
+  const auto n = static_cast<std::ptrdiff_t>(x_p.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t p = 0; p < n; ++p) {
+    assert(grid.contains(x_p[p]));
+    s[p] = make_stencil<Shape>(x_p[p], grid.origin, grid.inv_h);
+    assert(s[p].base[0] >= -Grid::kGhost && s[p].base[1] >= -Grid::kGhost &&
+           s[p].base[2] >= -Grid::kGhost);
+    assert(s[p].base[0] + Shape::kWidth <= grid.cells[0] + Grid::kGhost + 1 &&
+           s[p].base[1] + Shape::kWidth <= grid.cells[1] + Grid::kGhost + 1 &&
+           s[p].base[2] + Shape::kWidth <= grid.cells[2] + Grid::kGhost + 1);
+  }
+}
+
+template <int W>
+void p2g(const Particles& p, const Stencils<W>& s, Grid& grid, ScatterBuffers& buf) {
+  const int threads = omp_get_max_threads();
+  buf.resize(grid.size(), threads);
+  const auto n = static_cast<std::ptrdiff_t>(p.size());
+#pragma omp parallel num_threads(threads)
+  {
+    const int t = omp_get_thread_num();
+    const int used = omp_get_num_threads();
+    std::vector<double>& m_i = t == 0 ? grid.m_i : buf.m[t - 1];
+    std::vector<Vec3>& mv_i = t == 0 ? grid.mv_i : buf.mv[t - 1];
+    std::vector<Vec3>& f_i = t == 0 ? grid.f_i : buf.f[t - 1];
+    std::fill(m_i.begin(), m_i.end(), 0.0);
+    std::fill(mv_i.begin(), mv_i.end(), Vec3::Zero());
+    std::fill(f_i.begin(), f_i.end(), Vec3::Zero());
+    // Project mass, momentum and internal force to the grid.
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t q = 0; q < n; ++q) {
+      const double m_p = p.m[q];
+      const Vec3 mv_p = m_p * p.v[q];
+      const Mat3 Vsigma = p.V[q] * p.sigma[q];
+      for_each_node(grid, s[q], [&](std::size_t i, double N, const Vec3& gradN) {
+        m_i[i] += N * m_p;
+        mv_i[i] += N * mv_p;
+        f_i[i] -= Vsigma * gradN;
+      });
+    }
+    if (used > 1) {
+      reduce_into(grid.m_i, buf.m, used);
+      reduce_into(grid.mv_i, buf.mv, used);
+      reduce_into(grid.f_i, buf.f, used);
+    }
+  }
+}
+
+void grid_update(Grid& grid, const Vec3& gravity, double damping, double dt) {
+  const auto n = static_cast<std::ptrdiff_t>(grid.size());
+  const double floor = grid.mass_floor;
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    const double m = grid.m_i[i];
+    if (!(m > floor)) {
+      grid.v0_i[i].setZero();
+      grid.v_i[i].setZero();
+      continue;
+    }
+    const Vec3 v0 = grid.mv_i[i] / m;
+    Vec3 f = grid.f_i[i] + m * gravity;
+    if (damping > 0.0) {
+      for (int d = 0; d < 3; ++d) {
+        const double sign = (v0[d] > 0.0) - (v0[d] < 0.0);
+        f[d] -= damping * std::abs(f[d]) * sign;
+      }
+    }
+    grid.f_i[i] = f;
+    grid.v0_i[i] = v0;
+    grid.v_i[i] = v0 + (dt / m) * f;
+  }
+}
+
+template <int W>
+void g2p(Particles& p, const Stencils<W>& s, Grid& grid, double flip, double dt, bool reproject,
+         ScatterBuffers& buf) {
+  const int threads = omp_get_max_threads();
+  if (reproject) buf.resize(grid.size(), threads);
+  const auto n = static_cast<std::ptrdiff_t>(p.size());
+#pragma omp parallel num_threads(threads)
+  {
+    const int t = omp_get_thread_num();
+    const int used = omp_get_num_threads();
+    std::vector<Vec3>& mv_i = t == 0 ? grid.mv_i : buf.mv[t - 1];
+    if (reproject) std::fill(mv_i.begin(), mv_i.end(), Vec3::Zero());
+      // Interpolate the new velocity and its increment back to the points; move them.
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t q = 0; q < n; ++q) {
+      Vec3 v_pic = Vec3::Zero(), dv = Vec3::Zero();
+      for_each_node(grid, s[q], [&](std::size_t i, double N, const Vec3&) {
+        v_pic += N * grid.v_i[i];
+        dv += N * (grid.v_i[i] - grid.v0_i[i]);
+      });
+      p.v[q] = flip * (p.v[q] + dv) + (1.0 - flip) * v_pic;
+      p.x[q] += dt * v_pic;
+      if (reproject) {
+        const Vec3 mv_p = p.m[q] * p.v[q];
+        for_each_node(grid, s[q],
+                      [&](std::size_t i, double N, const Vec3&) { mv_i[i] += N * mv_p; });
+      }
+    }
+    if (reproject && used > 1) reduce_into(grid.mv_i, buf.mv, used);
+  }
+}
+
+void grid_velocity_from_momentum(Grid& grid) {
+  const auto n = static_cast<std::ptrdiff_t>(grid.size());
+  const double floor = grid.mass_floor;
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    const double m = grid.m_i[i];
+    if (m > floor) {
+      grid.v_i[i] = grid.mv_i[i] / m;
+    } else {
+      grid.v_i[i].setZero();
+    }
+  }
+}
+
+template <int W>
+std::size_t update_deformation(Particles& p, const Stencils<W>& s, const Grid& grid, double dt) {
+  const auto n = static_cast<std::ptrdiff_t>(p.size());
+  std::size_t bad = kNoPoint;
+#pragma omp parallel for schedule(static) reduction(min : bad)
+  for (std::ptrdiff_t q = 0; q < n; ++q) {
+    Mat3 grad_v = Mat3::Zero();
+    for_each_node(grid, s[q], [&](std::size_t i, double, const Vec3& gradN) {
+      grad_v.noalias() += grid.v_i[i] * gradN.transpose();
+    });
+    const Mat3 dF = Mat3::Identity() + dt * grad_v;
+    const double J = dF.determinant();
+    p.dF[q] = dF;
+    if (!(J > 0.0) || !std::isfinite(J)) {
+      bad = std::min(bad, static_cast<std::size_t>(q));
+      continue;
+    }
+    p.F[q] = dF * p.F[q];
+    p.V[q] *= J;
+  }
+  return bad;
+}
+
+// The two shape functions.
+template void compute_stencils<LinearShape>(const Grid&, const std::vector<Vec3>&, Stencils<2>&);
+template void compute_stencils<QuadraticBSplineShape>(const Grid&, const std::vector<Vec3>&,
+                                                      Stencils<3>&);
+template void p2g<2>(const Particles&, const Stencils<2>&, Grid&, ScatterBuffers&);
+template void p2g<3>(const Particles&, const Stencils<3>&, Grid&, ScatterBuffers&);
+template void g2p<2>(Particles&, const Stencils<2>&, Grid&, double, double, bool, ScatterBuffers&);
+template void g2p<3>(Particles&, const Stencils<3>&, Grid&, double, double, bool, ScatterBuffers&);
+template std::size_t update_deformation<2>(Particles&, const Stencils<2>&, const Grid&, double);
+template std::size_t update_deformation<3>(Particles&, const Stencils<3>&, const Grid&, double);
+
+}  // namespace mpmdem::mpm

@@ -1,0 +1,59 @@
+// Particle <-> grid transfers of one explicit MPM step, as free functions that read like the
+// algorithm. All of them use the stencils computed once per point per step at x_p^n.
+//
+// Threads: loops over points and over nodes are OpenMP-parallel. Scatters (P2G, the MUSL
+// re-projection) write into per-thread copies of the node fields that are then summed node
+// by node (no atomics, no locks); for a fixed thread count the result is deterministic.
+#pragma once
+
+#include <cstddef>
+#include <limits>
+#include <vector>
+
+#include "grid.hpp"
+#include "particles.hpp"
+#include "shape_functions.hpp"
+
+namespace mpmdem::mpm {
+
+// Per-thread node fields for the scatters (threads 1..T-1; thread 0 writes into the grid).
+// Kept between steps: no allocation per step once sized.
+struct ScatterBuffers {
+  std::vector<std::vector<double>> m;
+  std::vector<std::vector<Vec3>> mv;
+  std::vector<std::vector<Vec3>> f;
+  void resize(std::size_t nodes, int threads);
+};
+
+template <int W>
+using Stencils = std::vector<Stencil<W>>;
+
+// s_p = stencil of x_p (every x_p must be inside the grid: Grid::contains).
+template <class Shape>
+void compute_stencils(const Grid& grid, const std::vector<Vec3>& x_p, Stencils<Shape::kWidth>& s);
+
+// P2G: m_i = sum_p N_ip m_p,  mv_i = sum_p N_ip m_p v_p,  f_i = -sum_p V_p sigma_p grad N_ip.
+template <int W>
+void p2g(const Particles& p, const Stencils<W>& s, Grid& grid, ScatterBuffers& buf);
+
+// Grid update on nodes with mass: v0_i = mv_i / m_i; f_i += m_i g; local (Cundall) damping
+// f_i -= alpha |f_i| sign(v0_i) per component; v_i = v0_i + dt f_i / m_i. Empty nodes: 0.
+void grid_update(Grid& grid, const Vec3& gravity, double damping, double dt);
+
+// G2P with a PIC/FLIP blend, then (reproject = MUSL) mv_i = sum_p N_ip m_p v_p^{n+1}:
+//   v_p = flip (v_p + sum N (v_i - v0_i)) + (1 - flip) sum N v_i,   x_p += dt sum N v_i.
+template <int W>
+void g2p(Particles& p, const Stencils<W>& s, Grid& grid, double flip, double dt, bool reproject,
+         ScatterBuffers& buf);
+
+// MUSL: v_i = mv_i / m_i from the re-projected momentum (0 on empty nodes).
+void grid_velocity_from_momentum(Grid& grid);
+
+// grad v_p = sum_i v_i (x) grad N_ip;  dF_p = I + dt grad v_p;  F_p = dF_p F_p;
+// V_p = det(dF_p) V_p. Returns the index of the first point with det(dF_p) <= 0 or a
+// non-finite dF_p (its dF_p is stored, F_p and V_p are not updated), or npos.
+inline constexpr std::size_t kNoPoint = std::numeric_limits<std::size_t>::max();
+template <int W>
+std::size_t update_deformation(Particles& p, const Stencils<W>& s, const Grid& grid, double dt);
+
+}  // namespace mpmdem::mpm

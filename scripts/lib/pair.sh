@@ -1,0 +1,150 @@
+# shellcheck shell=bash
+# Launching the coupled pair (ompi-server, dem_app under mpirun, the client under mpirun)
+# and stopping every process started, by PID, also on failure and Ctrl-C.
+# Source it, then:
+#   pair_init                                  # installs the cleanup trap
+#   pair_start_ompi_server DIR                 # URI file DIR/ompi-server.uri
+#   pair_start_server NP LOG dem_app ARGS...   # background, output to LOG
+#   pair_start_client NP LOG mpm_app ARGS...   # background, output to stdout and LOG
+#   pair_start_local LOG mpm_app ARGS...       # mpm_app alone, without mpirun
+#   pair_wait_client                           # exit code of the client's mpirun
+#   pair_wait_server SECONDS                   # exit code of the server's mpirun (124: killed)
+# Each process runs in its own session (setsid), so killing its process group also stops
+# the MPI ranks that mpirun forked.
+
+PAIR_PIDS=()
+PAIR_URI=""
+PAIR_SERVER_PID=""
+PAIR_CLIENT_PID=""
+PAIR_CLIENT_LOCAL=0
+
+# mpirun options for two separately launched jobs on one machine. Open MPI 4 needs the
+# shared ompi-server for connect/accept; binding is off so that OpenMP threads and several
+# ranks on 2 cores are not pinned to one core.
+pair_mpirun_args() {
+  local args=(--oversubscribe --bind-to none --ompi-server "file:$PAIR_URI")
+  if [[ $(id -u) -eq 0 ]]; then args+=(--allow-run-as-root); fi
+  if [[ -n "${OMP_NUM_THREADS:-}" ]]; then args+=(-x OMP_NUM_THREADS); fi
+  args+=(${MPMDEM_MPIRUN_ARGS:-})
+  printf '%s\n' "${args[@]}"
+}
+
+pair_cleanup() {
+  local pid
+  for pid in "${PAIR_PIDS[@]}"; do
+    if kill -0 "$pid" 2>/dev/null; then kill -TERM -- "-$pid" 2>/dev/null || kill -TERM "$pid" 2>/dev/null; fi
+  done
+  local t
+  for t in 1 2 3 4 5 6 7 8 9 10; do
+    local alive=0
+    for pid in "${PAIR_PIDS[@]}"; do
+      if kill -0 "$pid" 2>/dev/null || pgrep -g "$pid" >/dev/null 2>&1; then alive=1; fi
+    done
+    ((alive)) || break
+    sleep 0.5
+  done
+  for pid in "${PAIR_PIDS[@]}"; do
+    kill -KILL -- "-$pid" 2>/dev/null || true
+    kill -KILL "$pid" 2>/dev/null || true
+    wait "$pid" 2>/dev/null || true
+  done
+  PAIR_PIDS=()
+}
+
+# Ctrl-C: let mpm_app stop in order first (it writes its summary and tells the server),
+# then stop everything that is left.
+pair_interrupt() {
+  trap '' INT TERM
+  echo "interrupted: stopping mpm_app, then every process started" >&2
+  if [[ -n $PAIR_CLIENT_PID ]] && kill -0 "$PAIR_CLIENT_PID" 2>/dev/null; then
+    if ((PAIR_CLIENT_LOCAL)); then
+      kill -INT "$PAIR_CLIENT_PID" 2>/dev/null
+    else
+      local child
+      for child in $(pgrep -P "$PAIR_CLIENT_PID"); do kill -INT "$child" 2>/dev/null; done
+    fi
+    local i
+    for i in $(seq 1 100); do
+      kill -0 "$PAIR_CLIENT_PID" 2>/dev/null || break
+      sleep 0.1
+    done
+  fi
+  pair_cleanup
+  exit 130
+}
+
+pair_init() {
+  trap 'pair_cleanup' EXIT
+  trap 'pair_interrupt' INT TERM
+}
+
+pair_start_ompi_server() {
+  local dir=$1
+  PAIR_URI="$dir/ompi-server.uri"
+  rm -f "$PAIR_URI"
+  setsid ompi-server --no-daemonize -r "$PAIR_URI" </dev/null >"$dir/ompi-server.log" 2>&1 &
+  PAIR_PIDS+=($!)
+  local i
+  for i in $(seq 1 100); do
+    [[ -s "$PAIR_URI" ]] && return 0
+    kill -0 "${PAIR_PIDS[-1]}" 2>/dev/null || break
+    sleep 0.1
+  done
+  echo "error: ompi-server did not start (see $dir/ompi-server.log)" >&2
+  return 1
+}
+
+pair_start_server() {
+  local np=$1 log=$2
+  shift 2
+  local args
+  mapfile -t args < <(pair_mpirun_args)
+  setsid mpirun "${args[@]}" -np "$np" "$@" </dev/null >"$log" 2>&1 &
+  PAIR_SERVER_PID=$!
+  PAIR_PIDS+=("$PAIR_SERVER_PID")
+}
+
+pair_start_client() {
+  local np=$1 log=$2
+  shift 2
+  local args
+  mapfile -t args < <(pair_mpirun_args)
+  # tee ignores Ctrl-C so that the client's last lines still reach the log.
+  setsid mpirun "${args[@]}" -np "$np" "$@" </dev/null > >(trap '' INT; exec tee "$log") 2>&1 &
+  PAIR_CLIENT_PID=$!
+  PAIR_CLIENT_LOCAL=0
+  PAIR_PIDS+=("$PAIR_CLIENT_PID")
+}
+
+pair_start_local() {
+  local log=$1
+  shift
+  setsid "$@" </dev/null > >(trap '' INT; exec tee "$log") 2>&1 &
+  PAIR_CLIENT_PID=$!
+  PAIR_CLIENT_LOCAL=1
+  PAIR_PIDS+=("$PAIR_CLIENT_PID")
+}
+
+pair_wait_client() {
+  local rc=0
+  wait "$PAIR_CLIENT_PID" || rc=$?
+  return $rc
+}
+
+# Wait up to SECONDS for the server's mpirun; returns its exit code, or 124 if it had to
+# be killed.
+pair_wait_server() {
+  local seconds=$1 i
+  for i in $(seq 1 $((seconds * 10))); do
+    kill -0 "$PAIR_SERVER_PID" 2>/dev/null || break
+    sleep 0.1
+  done
+  if kill -0 "$PAIR_SERVER_PID" 2>/dev/null; then
+    kill -TERM -- "-$PAIR_SERVER_PID" 2>/dev/null || true
+    wait "$PAIR_SERVER_PID" 2>/dev/null || true
+    return 124
+  fi
+  local rc=0
+  wait "$PAIR_SERVER_PID" || rc=$?
+  return $rc
+}

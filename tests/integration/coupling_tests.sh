@@ -1,0 +1,196 @@
+#!/usr/bin/env bash
+# Two-process coupling tests (registered by coupling.cmake). Usage: coupling_tests.sh CASE
+# Env: MPMDEM_BIN (build dir), MPMDEM_SRC (source dir).
+# Every process started (ompi-server, both mpiruns) is stopped by PID in a trap; each case
+# also asserts that the programs ended by themselves within a bound, with the expected exit
+# codes and messages.
+set -uo pipefail
+case_name=${1:?usage: coupling_tests.sh CASE}
+bin=${MPMDEM_BIN:?set MPMDEM_BIN to the build directory}
+src=${MPMDEM_SRC:-$(cd "$(dirname "$0")/../.." && pwd)}
+# shellcheck source=../../scripts/lib/pair.sh
+source "$src/scripts/lib/pair.sh"
+
+dem_app=$bin/dem_app/dem_app
+mpm_app=$bin/mpm_app/mpm_app
+client=$bin/tests/rve_test_client
+work=$bin/test-runs/coupling_$case_name
+rm -rf "$work"
+mkdir -p "$work/run"
+cd "$work" || exit 1
+pair_init
+
+failures=0
+fail() {
+  echo "FAIL: $*" >&2
+  failures=$((failures + 1))
+}
+expect_rc() {  # what got expected
+  if [[ "$2" != "$3" ]]; then fail "$1 exited with $2, expected $3"; else echo "ok: $1 exited with $2"; fi
+}
+expect_in() {  # file pattern description
+  if grep -qE -- "$2" "$1"; then echo "ok: $3"; else
+    fail "$3: /$2/ not found in $1:"
+    sed 's/^/    | /' "$1" >&2
+  fi
+}
+expect_no_process_left() {
+  local pid
+  for pid in "${PAIR_PIDS[@]:1}"; do  # all but ompi-server, which the trap stops
+    if kill -0 "$pid" 2>/dev/null || pgrep -g "$pid" >/dev/null 2>&1; then
+      fail "process group $pid still alive after the programs should have ended"
+    fi
+  done
+}
+expect_within() {  # seconds-taken limit what
+  if (($1 > $2)); then fail "$3 took $1 s (limit $2 s)"; else echo "ok: $3 took $1 s (<= $2 s)"; fi
+}
+
+# A scene holding only what dem_app and the test client read: config_version + coupling.
+write_scene() {  # file youngs_modulus [service]
+  cat >"$1" <<YAML
+config_version: 1
+coupling:
+  backend: elastic
+  outputs: []
+  service_name: ${3:-mpmdem_test}
+  port_file: dem_port.txt
+  connect_timeout_s: 30
+  elastic:
+    youngs_modulus: $2
+    poisson_ratio: 0.3
+YAML
+}
+
+run_client_pair() {  # ranks n steps extra-client-args...
+  local ranks=$1 n=$2 steps=$3
+  shift 3
+  pair_start_ompi_server "$work" || exit 1
+  pair_start_server "$ranks" "$work/server.log" "$dem_app" --backend elastic --scene scene.yaml \
+    --run-dir "$work/run" "${server_extra[@]}"
+  pair_start_client 1 "$work/client.log" "$client" --scene scene.yaml --run-dir "$work/run" \
+    --n "$n" --steps "$steps" "$@"
+  client_rc=0
+  pair_wait_client || client_rc=$?
+  server_rc=0
+  pair_wait_server 20 || server_rc=$?
+}
+
+server_extra=()
+case $case_name in
+  client_elastic_1rank | client_elastic_2ranks)
+    # Every reply equals the local elastic law; 11 RVEs over 2 ranks = partitions 6 + 5.
+    write_scene scene.yaml 1.0e7
+    ranks=1
+    [[ $case_name == *2ranks ]] && ranks=2
+    run_client_pair $ranks 11 6
+    expect_rc "client" "$client_rc" 0
+    expect_rc "dem_app" "$server_rc" 0
+    expect_in client.log "worst relative stress error 0$" "replies equal the local law"
+    expect_in server.log "serving 11 RVEs on $ranks rank" "server saw the client's RVE count"
+    [[ -e run/dem_port.txt ]] && fail "port file not removed after accept"
+    ;;
+  client_checkpoint_restore)
+    # Checkpoint after step 3 of 6, then a new server restores it and the client resumes.
+    write_scene scene.yaml 2.0e7
+    run_client_pair 2 9 6 --checkpoint-at 3
+    expect_rc "client (first run)" "$client_rc" 0
+    expect_rc "dem_app (first run)" "$server_rc" 0
+    pair_cleanup
+    server_extra=(--restore "$work/run/ckpt")
+    run_client_pair 2 9 6 --resume 3
+    expect_rc "client (resumed)" "$client_rc" 0
+    expect_rc "dem_app (restored)" "$server_rc" 0
+    expect_in client.log "steps 4..6, worst relative stress error 0$" "resumed stresses equal the law"
+    ;;
+  client_abort)
+    write_scene scene.yaml 1.0e7
+    run_client_pair 2 5 6 --abort-after 2
+    expect_rc "client" "$client_rc" 0
+    expect_rc "dem_app" "$server_rc" 4
+    expect_in server.log "mpm_app aborted the run: rve_test_client: test abort" "server names the abort"
+    ;;
+  hash_mismatch)
+    # The server reads a scene whose coupling section differs (another Young's modulus).
+    write_scene scene.yaml 1.0e7
+    write_scene other.yaml 3.0e7
+    pair_start_ompi_server "$work" || exit 1
+    start=$SECONDS
+    pair_start_server 2 "$work/server.log" "$dem_app" --backend elastic --scene other.yaml \
+      --run-dir "$work/run"
+    pair_start_client 1 "$work/client.log" "$client" --scene scene.yaml --run-dir "$work/run"
+    client_rc=0
+    pair_wait_client || client_rc=$?
+    server_rc=0
+    pair_wait_server 20 || server_rc=$?
+    expect_rc "client" "$client_rc" 3
+    expect_rc "dem_app" "$server_rc" 3
+    pattern="coupling section hash differs: rve_test_client 0x[0-9a-f]{16} \(scene.yaml\) vs dem_app 0x[0-9a-f]{16} \(other.yaml\)"
+    expect_in client.log "$pattern" "client names both hashes and files"
+    expect_in server.log "$pattern" "server names both hashes and files"
+    expect_within $((SECONDS - start)) 30 "the refused handshake"
+    expect_no_process_left
+    ;;
+  version_mismatch)
+    # Test hook: the client claims protocol major version 99.
+    write_scene scene.yaml 1.0e7
+    pair_start_ompi_server "$work" || exit 1
+    start=$SECONDS
+    pair_start_server 1 "$work/server.log" "$dem_app" --backend elastic --scene scene.yaml \
+      --run-dir "$work/run"
+    MPMDEM_TEST_FAKE_VERSION_MAJOR=99 pair_start_client 1 "$work/client.log" "$client" \
+      --scene scene.yaml --run-dir "$work/run"
+    client_rc=0
+    pair_wait_client || client_rc=$?
+    server_rc=0
+    pair_wait_server 20 || server_rc=$?
+    expect_rc "client" "$client_rc" 3
+    expect_rc "dem_app" "$server_rc" 3
+    pattern="protocol major version differs: rve_test_client 99\.[0-9]+ .* vs dem_app 1\.[0-9]+"
+    expect_in client.log "$pattern" "client names both versions"
+    expect_in server.log "$pattern" "server names both versions"
+    expect_within $((SECONDS - start)) 30 "the refused handshake"
+    expect_no_process_left
+    ;;
+  no_server_client)
+    # ompi-server is up, but no dem_app: the client gives up after its timeout (4 s).
+    write_scene scene.yaml 1.0e7
+    pair_start_ompi_server "$work" || exit 1
+    start=$SECONDS
+    pair_start_client 1 "$work/client.log" "$client" --scene scene.yaml --run-dir "$work/run" \
+      --timeout 4
+    client_rc=0
+    pair_wait_client || client_rc=$?
+    expect_rc "client" "$client_rc" 4
+    expect_in client.log "no DEM server found within 4 s .*service 'mpmdem_test'.*dem_port.txt.*start dem_app first" \
+      "client says no server was found, naming service, port file and timeout"
+    expect_within $((SECONDS - start)) 20 "giving up"
+    expect_no_process_left
+    ;;
+  no_client_server)
+    # dem_app alone: its watchdog ends it after --timeout, removing the port file.
+    write_scene scene.yaml 1.0e7
+    pair_start_ompi_server "$work" || exit 1
+    start=$SECONDS
+    pair_start_server 2 "$work/server.log" "$dem_app" --backend elastic --scene scene.yaml \
+      --run-dir "$work/run" --timeout 3
+    server_rc=0
+    pair_wait_server 30 || server_rc=$?
+    expect_rc "dem_app" "$server_rc" 4
+    expect_in server.log "no mpm_app connected within 3 s \(coupling.connect_timeout_s\)" \
+      "server says no client connected"
+    [[ -e run/dem_port.txt ]] && fail "port file left behind"
+    expect_within $((SECONDS - start)) 25 "giving up"
+    expect_no_process_left
+    ;;
+  *)
+    echo "unknown case $case_name" >&2
+    exit 2
+    ;;
+esac
+
+if ((failures)); then
+  echo "coupling_$case_name: $failures failure(s); logs in $work" >&2
+  exit 1
+fi
+echo "coupling_$case_name: passed"

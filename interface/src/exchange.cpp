@@ -85,7 +85,7 @@ void PayloadTypes::create() {
 // ---------------------------------------------------------------------------------------
 // Client
 RveClient::~RveClient() {
-  if (connected()) abort("mpm_app ended without an orderly shutdown");
+  if (connected()) abort(program_ + " ended without an orderly shutdown");
 }
 
 void RveClient::require_connected(const char* what) const {
@@ -95,10 +95,16 @@ void RveClient::require_connected(const char* what) const {
 
 void RveClient::connect(const ConnectOptions& opts, HelloFields hello) {
   if (connected()) throw PeerError("RveClient::connect called twice");
+  // MPI counts are int (in RVEs, thanks to the derived datatypes).
+  if (hello.n_rve > static_cast<std::uint64_t>(INT_MAX)) {
+    throw PeerError("too many RVEs for one coupling (" + std::to_string(hello.n_rve) +
+                    " > 2^31-1): MPI counts are int");
+  }
   conn_ = Connection::connect(opts);
   types_.create();
   hello.n_partitions = conn_.remote_size();
   if (hello.program.empty()) hello.program = "mpm_app";
+  program_ = hello.program;
   try {
     hs_ = exchange_hello(conn_.intercomm(), true, make_hello(hello), opts.config_file);
   } catch (const HandshakeError&) {
@@ -108,11 +114,6 @@ void RveClient::connect(const ConnectOptions& opts, HelloFields hello) {
   if (auto note = minor_version_note(hs_.client, hs_.server))
     std::cerr << "mpm_app: " << *note << '\n';
   n_rve_ = hello.n_rve;
-  if (n_rve_ > static_cast<std::uint64_t>(INT_MAX)) {
-    conn_.abandon();
-    throw PeerError("too many RVEs for one coupling (" + std::to_string(n_rve_) +
-                    " > 2^31-1): MPI counts are int");
-  }
   parts_ = partition_contiguous(n_rve_, conn_.remote_size());
   counts_.clear();
   displs_.clear();
@@ -251,7 +252,7 @@ void RveClient::abort(const std::string& message) noexcept {
     return;
   }
   Watchdog watchdog(10.0, [] {
-    std::fprintf(stderr, "mpm_app: DEM server did not acknowledge the abort within 10 s\n");
+    std::fprintf(stderr, "DEM server did not acknowledge the abort within 10 s\n");
     std::fflush(stderr);
     std::_Exit(kExitPeerError);
   });

@@ -343,9 +343,12 @@ RunResult run_scene(const Scene& scene_in, const RunOptions& opt) {
     progress.print(progress_state());
     result.exit_code = s.status == "interrupted" ? 130 : 0;
   } catch (const std::exception& e) {
+    // A SimulationError names the point and the step itself; other faults get the step.
     std::ostringstream msg;
-    msg << "simulation failed at step " << solver->step_count() << " (t=" << solver->time()
-        << " s): " << e.what();
+    if (dynamic_cast<const SimulationError*>(&e) == nullptr) {
+      msg << "at step " << solver->step_count() << " (t=" << solver->time() << " s): ";
+    }
+    msg << e.what();
     s.status = "failed";
     s.error = msg.str();
     err << "error: " << s.error << std::endl;

@@ -1,4 +1,7 @@
 #include "solver.hpp"
+#include "parallel.hpp"
+
+#include <Eigen/LU>
 
 #include <algorithm>
 #include <cmath>
@@ -174,7 +177,7 @@ void Solver::step_with(Stencils<Shape::kWidth>& stencils, double dt) {
   }
   // Stresses for the whole batch in one call.
   const auto n = static_cast<std::ptrdiff_t>(p_.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > kParallelMin)
   for (std::ptrdiff_t q = 0; q < n; ++q) dF_slots_[slot_[q]] = p_.dF[q];
   provider_->update(dF_slots_, dt, step, time_ + dt, responses_);
   if (responses_.size() != dF_slots_.size()) {
@@ -210,7 +213,7 @@ void Solver::apply_responses() {
   const bool coordination = p_.coordination.size() == p_.size();
   const bool unbalanced = p_.unbalanced_force.size() == p_.size();
   std::size_t bad = kNoPoint;
-#pragma omp parallel for schedule(static) reduction(min : bad)
+#pragma omp parallel for schedule(static) if (n > kParallelMin) reduction(min : bad)
   for (std::ptrdiff_t q = 0; q < n; ++q) {
     const PointResponse& r = responses_[slot_[q]];
     if (!r.stress.allFinite() || !std::isfinite(r.stiffness) || fatal_status(r.status)) {
@@ -245,7 +248,7 @@ void Solver::handle_points_outside_grid() {
   const auto n = static_cast<std::ptrdiff_t>(p_.size());
   std::size_t first = kNoPoint;
   std::size_t count = 0;
-#pragma omp parallel for schedule(static) reduction(min : first) reduction(+ : count)
+#pragma omp parallel for schedule(static) if (n > kParallelMin) reduction(min : first) reduction(+ : count)
   for (std::ptrdiff_t q = 0; q < n; ++q) {
     if (!grid_.contains(p_.x[q])) {
       first = std::min(first, static_cast<std::size_t>(q));

@@ -11,7 +11,10 @@
 //       MUSL (default): mv_i = sum N m_p v_p (re-projected), v_i = mv_i / m_i, BCs again,
 //                       grad v_p = sum v_i (x) grad N_ip. The stress sees the velocity field
 //                       of the updated points (smoother, less prone to cell-crossing noise).
-//       USL:            grad v_p from the v_i of step 2 (one transfer fewer).
+//       USL:            grad v_p from the v_i of step 2 (one transfer fewer). With linear
+//                       shape functions USL is unstable when points cross cells (a node
+//                       with a tiny mass gets a huge acceleration that enters grad v_p);
+//                       use it with quadratic B-splines only.
 //     dF_p = I + dt grad v_p;  F_p = dF_p F_p;  V_p = det(dF_p) V_p.
 //   5 Stress   provider->update(dF of all points) in one batched call; stress, stiffness and
 //              outputs copied to the points; non-finite stress or a fatal RVE status:

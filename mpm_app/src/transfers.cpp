@@ -1,6 +1,9 @@
 #include "transfers.hpp"
+#include "parallel.hpp"
 
 #include <omp.h>
+
+#include <Eigen/LU>
 
 #include <algorithm>
 #include <cassert>
@@ -59,7 +62,7 @@ template <class Shape>
 void compute_stencils(const Grid& grid, const std::vector<Vec3>& x_p, Stencils<Shape::kWidth>& s) {
   s.resize(x_p.size());
   const auto n = static_cast<std::ptrdiff_t>(x_p.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > kParallelMin)
   for (std::ptrdiff_t p = 0; p < n; ++p) {
     assert(grid.contains(x_p[p]));
     s[p] = make_stencil<Shape>(x_p[p], grid.origin, grid.inv_h);
@@ -76,7 +79,7 @@ void p2g(const Particles& p, const Stencils<W>& s, Grid& grid, ScatterBuffers& b
   const int threads = omp_get_max_threads();
   buf.resize(grid.size(), threads);
   const auto n = static_cast<std::ptrdiff_t>(p.size());
-#pragma omp parallel num_threads(threads)
+#pragma omp parallel num_threads(threads) if (n > kParallelMin)
   {
     const int t = omp_get_thread_num();
     const int used = omp_get_num_threads();
@@ -109,7 +112,7 @@ void p2g(const Particles& p, const Stencils<W>& s, Grid& grid, ScatterBuffers& b
 void grid_update(Grid& grid, const Vec3& gravity, double damping, double dt) {
   const auto n = static_cast<std::ptrdiff_t>(grid.size());
   const double floor = grid.mass_floor;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > kParallelMin)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     const double m = grid.m_i[i];
     if (!(m > floor)) {
@@ -137,7 +140,7 @@ void g2p(Particles& p, const Stencils<W>& s, Grid& grid, double flip, double dt,
   const int threads = omp_get_max_threads();
   if (reproject) buf.resize(grid.size(), threads);
   const auto n = static_cast<std::ptrdiff_t>(p.size());
-#pragma omp parallel num_threads(threads)
+#pragma omp parallel num_threads(threads) if (n > kParallelMin)
   {
     const int t = omp_get_thread_num();
     const int used = omp_get_num_threads();
@@ -166,7 +169,7 @@ void g2p(Particles& p, const Stencils<W>& s, Grid& grid, double flip, double dt,
 void grid_velocity_from_momentum(Grid& grid) {
   const auto n = static_cast<std::ptrdiff_t>(grid.size());
   const double floor = grid.mass_floor;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > kParallelMin)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     const double m = grid.m_i[i];
     if (m > floor) {
@@ -181,7 +184,7 @@ template <int W>
 std::size_t update_deformation(Particles& p, const Stencils<W>& s, const Grid& grid, double dt) {
   const auto n = static_cast<std::ptrdiff_t>(p.size());
   std::size_t bad = kNoPoint;
-#pragma omp parallel for schedule(static) reduction(min : bad)
+#pragma omp parallel for schedule(static) if (n > kParallelMin) reduction(min : bad)
   for (std::ptrdiff_t q = 0; q < n; ++q) {
     Mat3 grad_v = Mat3::Zero();
     for_each_node(grid, s[q], [&](std::size_t i, double, const Vec3& gradN) {

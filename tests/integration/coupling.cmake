@@ -9,9 +9,11 @@ target_link_libraries(rve_test_client PRIVATE dem_server)
 set(_pair ${CMAKE_CURRENT_LIST_DIR}/coupling_tests.sh)
 set(_env "MPMDEM_BIN=${PROJECT_BINARY_DIR}" "MPMDEM_SRC=${PROJECT_SOURCE_DIR}")
 foreach(_case
-    client_elastic_1rank client_elastic_2ranks client_checkpoint_restore client_abort
-    hash_mismatch version_mismatch no_server_client no_client_server)
+    client_elastic_1rank client_elastic_2ranks client_checkpoint_restore client_abort client_backend_error
+    hash_mismatch version_mismatch no_server_client no_client_server
+    mpm_no_server mpm_hash_mismatch swap_sides)
   add_test(NAME coupling_${_case} COMMAND bash ${_pair} ${_case})
   set_tests_properties(coupling_${_case} PROPERTIES TIMEOUT 120 LABELS integration
                        ENVIRONMENT "${_env}" RUN_SERIAL TRUE)
 endforeach()
+set_tests_properties(coupling_swap_sides PROPERTIES TIMEOUT 300)

@@ -110,6 +110,18 @@ case $case_name in
     expect_rc "dem_app" "$server_rc" 4
     expect_in server.log "mpm_app aborted the run: rve_test_client: test abort" "server names the abort"
     ;;
+  client_backend_error)
+    # A failing backend (restore from a missing checkpoint) is reported to the client as a
+    # PeerError naming rank and reason; the client aborts and both end non-zero.
+    write_scene scene.yaml 1.0e7
+    server_extra=(--restore "$work/no_such_checkpoint")
+    run_client_pair 2 6 4 --resume 1
+    expect_rc "client" "$client_rc" 4
+    expect_rc "dem_app" "$server_rc" 4
+    expect_in client.log "DEM server rank 0 failed during step: backend error.*no elastic checkpoint" \
+      "client names the rank and the backend's reason"
+    expect_in server.log "mpm_app aborted the run" "server reports the abort"
+    ;;
   hash_mismatch)
     # The server reads a scene whose coupling section differs (another Young's modulus).
     write_scene scene.yaml 1.0e7
@@ -181,6 +193,85 @@ case $case_name in
       "server says no client connected"
     [[ -e run/dem_port.txt ]] && fail "port file left behind"
     expect_within $((SECONDS - start)) 25 "giving up"
+    expect_no_process_left
+    ;;
+  swap_sides)
+    # Issue 2, item 8: the elastic column with the local linear_elastic model and with
+    # `remote` against dem_app --backend elastic on 1 and on 2 ranks gives the same
+    # stresses (<= 1e-10 relative). Shortened to 0.1 s of simulated time (~330 steps).
+    shorten() { sed -E 's/^(\s*end_time:).*/\1 0.1/' "$1" >"$2"; }
+    shorten "$src/configs/elastic_column.yaml" local.yaml
+    shorten "$src/configs/elastic_column_remote.yaml" remote.yaml
+    start=$SECONDS
+    local_rc=0
+    "$mpm_app" local.yaml --out "$work/local" >local.log 2>&1 || local_rc=$?
+    expect_rc "mpm_app (linear_elastic)" "$local_rc" 0
+    pair_start_ompi_server "$work" || exit 1
+    for ranks in 1 2; do
+      pair_start_server $ranks "$work/server$ranks.log" "$dem_app" --backend elastic \
+        --scene remote.yaml --run-dir "$work/remote$ranks"
+      pair_start_client 1 "$work/client$ranks.log" "$mpm_app" remote.yaml --out "$work/remote$ranks"
+      client_rc=0
+      pair_wait_client || client_rc=$?
+      server_rc=0
+      pair_wait_server 20 || server_rc=$?
+      expect_rc "mpm_app (remote, $ranks server rank(s))" "$client_rc" 0
+      expect_rc "dem_app ($ranks rank(s))" "$server_rc" 0
+      expect_in "server$ranks.log" "on $ranks rank\(s\)" "dem_app served on $ranks rank(s)"
+    done
+    /usr/bin/python3 - "$work/local" "$work/remote1" "$work/remote2" <<'PY' || fail "stresses differ"
+import sys, h5py, numpy as np
+def load(d):
+    with h5py.File(d + "/final_state.h5", "r") as f:
+        return f["id"][()], f["stress"][()], f.attrs["step"]
+ids0, s0, n0 = load(sys.argv[1])
+scale = np.abs(s0).max()
+assert scale > 1e3, f"local stresses too small to compare ({scale} Pa)"
+ok = True
+for d in sys.argv[2:]:
+    ids, s, n = load(d)
+    same = (ids == ids0).all() and n == n0
+    rel = np.abs(s - s0).max() / scale
+    print(f"{d}: {len(ids)} points, {n} steps, max |stress - local| / max |local| = {rel:.3e}")
+    ok = ok and same and rel <= 1e-10
+sys.exit(0 if ok else 1)
+PY
+    expect_within $((SECONDS - start)) 240 "the three runs"
+    ;;
+  mpm_no_server)
+    # mpm_app with constitutive.model remote and no dem_app: clear message, non-zero exit
+    # within its timeout (coupling.connect_timeout_s set to 4 s).
+    sed -E 's/^(\s*connect_timeout_s:).*/\1 4/' "$src/configs/elastic_column_remote.yaml" >remote.yaml
+    pair_start_ompi_server "$work" || exit 1
+    start=$SECONDS
+    pair_start_client 1 "$work/client.log" "$mpm_app" remote.yaml --out "$work/run"
+    client_rc=0
+    pair_wait_client || client_rc=$?
+    if ((client_rc == 0)); then fail "mpm_app exited with 0 without a server"; else echo "ok: mpm_app exited with $client_rc"; fi
+    expect_in client.log "no DEM server found within 4 s .*service 'mpmdem'.*dem_port.txt" \
+      "mpm_app says no server was found"
+    expect_within $((SECONDS - start)) 25 "giving up"
+    expect_no_process_left
+    ;;
+  mpm_hash_mismatch)
+    # dem_app started with a scene whose coupling section differs: both refuse.
+    cp "$src/configs/elastic_column_remote.yaml" remote.yaml
+    sed -E 's/^(\s*youngs_modulus:).*/\1 2.0e7/' remote.yaml >other.yaml
+    pair_start_ompi_server "$work" || exit 1
+    start=$SECONDS
+    pair_start_server 2 "$work/server.log" "$dem_app" --backend elastic --scene other.yaml \
+      --run-dir "$work/run"
+    pair_start_client 1 "$work/client.log" "$mpm_app" remote.yaml --out "$work/run"
+    client_rc=0
+    pair_wait_client || client_rc=$?
+    server_rc=0
+    pair_wait_server 20 || server_rc=$?
+    if ((client_rc == 0)); then fail "mpm_app exited with 0 despite the mismatch"; else echo "ok: mpm_app exited with $client_rc"; fi
+    expect_rc "dem_app" "$server_rc" 3
+    pattern="coupling section hash differs: mpm_app 0x[0-9a-f]{16} \(.*remote.yaml\) vs dem_app 0x[0-9a-f]{16} \(other.yaml\)"
+    expect_in client.log "$pattern" "mpm_app names both hashes"
+    expect_in server.log "$pattern" "dem_app names both hashes"
+    expect_within $((SECONDS - start)) 30 "the refused handshake"
     expect_no_process_left
     ;;
   *)

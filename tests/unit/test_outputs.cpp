@@ -396,7 +396,9 @@ TEST(RunOutputs, AShortRunWritesEveryOutputConsistently) {
     const double E_p = std::stod(rows[k][3]), E_k = std::stod(rows[k][4]);
     const double E_d = std::stod(rows[k][5]), E_p0 = std::stod(rows[k][7]);
     EXPECT_NEAR(E_d, E_p0 - E_p - E_k, 1e-9 * std::abs(E_p0) + 1e-12);
-    if (k > 1) EXPECT_GT(std::stod(rows[k][2]), 0.0);  // dt of the step
+    if (k > 1) {
+      EXPECT_GT(std::stod(rows[k][2]), 0.0);  // dt of the step
+    }
   }
 
   // Frames: t = 0, the middle and the end; the .pvd lists exactly the files present.

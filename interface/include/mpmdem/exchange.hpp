@@ -102,6 +102,7 @@ class RveClient {
   std::vector<protocol::RankReport> reports_;
   ExchangeTiming timing_;
   bool broken_ = false;  // an MPI call failed: the intercommunicator is unusable
+  std::string program_ = "mpm_app";
 };
 
 class RveServerChannel {

@@ -1,4 +1,5 @@
 #include "constitutive/linear_elastic.hpp"
+#include "parallel.hpp"
 
 #include <stdexcept>
 #include <string>
@@ -30,7 +31,7 @@ class LinearElasticProvider final : public ConstitutiveProvider {
                              " dF for " + std::to_string(sigma_.size()) + " points");
     }
     const auto n = static_cast<std::ptrdiff_t>(sigma_.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > kParallelMin)
     for (std::ptrdiff_t p = 0; p < n; ++p) {
       const auto i = static_cast<std::size_t>(p);
       sigma_[i] = law_.update(sigma_[i], dF[i]);
@@ -43,7 +44,7 @@ class LinearElasticProvider final : public ConstitutiveProvider {
     out.resize(sigma_.size());
     const double M = law_.constrained_modulus();
     const auto n = static_cast<std::ptrdiff_t>(sigma_.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > kParallelMin)
     for (std::ptrdiff_t p = 0; p < n; ++p) {
       const auto i = static_cast<std::size_t>(p);
       out[i].stress = sigma_[i];

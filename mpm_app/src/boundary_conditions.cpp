@@ -18,6 +18,12 @@ BoundaryConditions::BoundaryConditions(const Scene& scene, const Grid& grid) {
     for (std::size_t i = 0; i < grid.size(); ++i) {
       const int k = grid.lattice(i)[static_cast<std::size_t>(face.axis)];
       if (face.outward < 0.0 ? k <= 0 : k >= n) face.nodes.push_back(i);
+      const bool ghost = face.outward < 0.0 ? k == -1 : k == n + 1;
+      if (ghost && n >= 2) {
+        auto l = grid.lattice(i);
+        l[static_cast<std::size_t>(face.axis)] = face.outward < 0.0 ? 1 : n - 1;
+        face.mirrors.emplace_back(i, grid.index(l[0], l[1], l[2]));
+      }
     }
     faces_.push_back(std::move(face));
   }
@@ -42,9 +48,14 @@ void BoundaryConditions::apply(std::vector<Vec3>& v_i) const {
     switch (face.type) {
       case WallType::kFixed:
         for (std::size_t i : face.nodes) v_i[i].setZero();
+        for (const auto& [ghost, mirror] : face.mirrors) v_i[ghost] = -v_i[mirror];
         break;
       case WallType::kSlip:
         for (std::size_t i : face.nodes) v_i[i][a] = 0.0;
+        for (const auto& [ghost, mirror] : face.mirrors) {
+          v_i[ghost] = v_i[mirror];
+          v_i[ghost][a] = -v_i[mirror][a];
+        }
         break;
       case WallType::kFriction:
         for (std::size_t i : face.nodes) {

@@ -8,12 +8,18 @@
 //            normal component v_n and its tangential speed is reduced by mu v_n, never
 //            reversed; a node moving away is free;
 //   free     nothing.
+// The ghost layer behind a fixed or slip wall mirrors the first interior layer (fixed:
+// v_ghost = -v_mirror; slip: tangential components copied, normal one reversed), so that the
+// velocity field a quadratic B-spline stencil sees across the wall is the reflected one and
+// the velocity gradient next to the wall is that of the interior. (Linear stencils never
+// reach the ghost layer.)
 // Faces are applied in the order x_min, x_max, y_min, y_max, z_min, z_max, then the active
 // velocity constraints (their held components are set to the value).
 #pragma once
 
 #include <cstddef>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "grid.hpp"
@@ -48,6 +54,7 @@ class BoundaryConditions {
     int axis = 0;
     double outward = 1.0;            // -1 on a min face, +1 on a max face
     std::vector<std::size_t> nodes;  // boundary plane and ghost layer behind it
+    std::vector<std::pair<std::size_t, std::size_t>> mirrors;  // (ghost, interior mirror)
   };
   struct Constraint {
     VelocityConstraintParams params;

@@ -355,11 +355,15 @@ RunResult run_scene(const Scene& scene_in, const RunOptions& opt) {
     result.exit_code = 4;
   }
 
-  // Let the provider end in order (remote: the servers shut down too).
-  try {
-    solver->provider().finish();
-  } catch (const std::exception& e) {
-    err << "warning: ending the constitutive provider: " << e.what() << std::endl;
+  // A complete or interrupted run ends the provider in order (remote: the servers shut down
+  // and exit 0). After a failure it is not finished: destroying it (at the end of this
+  // function) aborts, so a remote server ends with an error too.
+  if (s.status != "failed") {
+    try {
+      solver->provider().finish();
+    } catch (const std::exception& e) {
+      err << "warning: ending the constitutive provider: " << e.what() << std::endl;
+    }
   }
 
   s.steps = solver->step_count();

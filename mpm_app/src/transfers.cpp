@@ -186,10 +186,16 @@ std::size_t update_deformation(Particles& p, const Stencils<W>& s, const Grid& g
   std::size_t bad = kNoPoint;
 #pragma omp parallel for schedule(static) if (n > kParallelMin) reduction(min : bad)
   for (std::ptrdiff_t q = 0; q < n; ++q) {
-    Mat3 grad_v = Mat3::Zero();
+    // grad_v(a, b) = sum_i v_i[a] dN_i/dx_b, accumulated column by column.
+    Vec3 gx = Vec3::Zero(), gy = Vec3::Zero(), gz = Vec3::Zero();
     for_each_node(grid, s[q], [&](std::size_t i, double, const Vec3& gradN) {
-      grad_v.noalias() += grid.v_i[i] * gradN.transpose();
+      const Vec3& v = grid.v_i[i];
+      gx += gradN[0] * v;
+      gy += gradN[1] * v;
+      gz += gradN[2] * v;
     });
+    Mat3 grad_v;
+    grad_v << gx, gy, gz;
     const Mat3 dF = Mat3::Identity() + dt * grad_v;
     const double J = dF.determinant();
     p.dF[q] = dF;

@@ -20,34 +20,51 @@ PAIR_CLIENT_LOCAL=0
 
 # mpirun options for two separately launched jobs on one machine. Open MPI 4 needs the
 # shared ompi-server for connect/accept; binding is off so that OpenMP threads and several
-# ranks on 2 cores are not pinned to one core.
+# ranks on few cores are not pinned to one core; idle ranks yield the CPU instead of
+# spinning (measured on 2 cores, dem_app on 2 ranks + mpm_app: 30 ms per exchange without
+# it, 3 ms with it).
 pair_mpirun_args() {
-  local args=(--oversubscribe --bind-to none --ompi-server "file:$PAIR_URI")
+  local args=(--oversubscribe --bind-to none --mca mpi_yield_when_idle 1
+    --ompi-server "file:$PAIR_URI")
   if [[ $(id -u) -eq 0 ]]; then args+=(--allow-run-as-root); fi
   if [[ -n "${OMP_NUM_THREADS:-}" ]]; then args+=(-x OMP_NUM_THREADS); fi
   args+=(${MPMDEM_MPIRUN_ARGS:-})
   printf '%s\n' "${args[@]}"
 }
 
+# PIDs of every descendant of the given PIDs (mpirun puts its ranks in their own
+# process groups, so a group kill alone would miss them).
+pair_descendants() {
+  local pid child
+  for pid in "$@"; do
+    for child in $(pgrep -P "$pid" 2>/dev/null); do
+      echo "$child"
+      pair_descendants "$child"
+    done
+  done
+}
+
 pair_cleanup() {
-  local pid
+  ((${#PAIR_PIDS[@]})) || return 0
+  local pid all
+  all=("${PAIR_PIDS[@]}")
+  mapfile -t -O ${#all[@]} all < <(pair_descendants "${PAIR_PIDS[@]}")
   for pid in "${PAIR_PIDS[@]}"; do
     if kill -0 "$pid" 2>/dev/null; then kill -TERM -- "-$pid" 2>/dev/null || kill -TERM "$pid" 2>/dev/null; fi
   done
-  local t
-  for t in 1 2 3 4 5 6 7 8 9 10; do
-    local alive=0
-    for pid in "${PAIR_PIDS[@]}"; do
-      if kill -0 "$pid" 2>/dev/null || pgrep -g "$pid" >/dev/null 2>&1; then alive=1; fi
+  local t alive
+  for t in $(seq 1 20); do
+    alive=0
+    for pid in "${all[@]}"; do
+      if kill -0 "$pid" 2>/dev/null; then alive=1; fi
     done
     ((alive)) || break
-    sleep 0.5
+    sleep 0.25
   done
-  for pid in "${PAIR_PIDS[@]}"; do
-    kill -KILL -- "-$pid" 2>/dev/null || true
+  for pid in "${all[@]}"; do
     kill -KILL "$pid" 2>/dev/null || true
-    wait "$pid" 2>/dev/null || true
   done
+  for pid in "${PAIR_PIDS[@]}"; do wait "$pid" 2>/dev/null || true; done
   PAIR_PIDS=()
 }
 

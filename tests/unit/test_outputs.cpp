@@ -197,6 +197,7 @@ Scene short_column() {
 RunOptions quiet_options(const std::string& dir, std::ostream& sink) {
   RunOptions o;
   o.out_dir = dir;
+  o.threads = 1;  // the runs are small: threads would only add barrier waits on a busy machine
   o.handle_signals = false;
   o.out = &sink;
   o.err = &sink;

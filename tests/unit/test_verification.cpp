@@ -68,6 +68,7 @@ double figure(const RunSummary& s, const std::string& key) {
 RunOptions quiet(const std::string& dir, std::ostream& log, Particles* final_state = nullptr) {
   RunOptions o;
   o.out_dir = dir;
+  o.threads = 1;  // the runs are small: threads would only add barrier waits on a busy machine
   o.handle_signals = false;
   o.out = &log;
   o.err = &log;

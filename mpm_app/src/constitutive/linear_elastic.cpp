@@ -30,13 +30,17 @@ class LinearElasticProvider final : public ConstitutiveProvider {
       throw std::logic_error("linear_elastic: update with " + std::to_string(dF.size()) +
                              " dF for " + std::to_string(sigma_.size()) + " points");
     }
+    out.resize(sigma_.size());
+    const double M = law_.constrained_modulus();
     const auto n = static_cast<std::ptrdiff_t>(sigma_.size());
 #pragma omp parallel for schedule(static) if (n > kParallelMin)
     for (std::ptrdiff_t p = 0; p < n; ++p) {
       const auto i = static_cast<std::size_t>(p);
       sigma_[i] = law_.update(sigma_[i], dF[i]);
+      out[i].stress = sigma_[i];
+      out[i].stiffness = M;
+      out[i].status = static_cast<std::int32_t>(protocol::RveStatus::kOk);
     }
-    respond(out);
   }
 
  private:

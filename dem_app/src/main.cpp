@@ -2,7 +2,7 @@
 // scene, opens an MPI port, serves one mpm_app until it shuts down.
 //
 //   mpirun --ompi-server file:URI -np N dem_app --backend elastic|yade --scene FILE
-//          --run-dir DIR [--restore CHECKPOINT_DIR] [--timeout S]
+//          --run-dir DIR [--restore CHECKPOINT_DIR] [--timeout S] [--idle-timeout S]
 //   dem_app --print-backend FILE     coupling.backend of a scene (no MPI; for scripts/run)
 //
 // Exit codes: 0 after an orderly shutdown, 2 config/command-line error, 3 handshake
@@ -27,18 +27,21 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: dem_app --backend elastic|yade --scene FILE --run-dir DIR\n"
-    "               [--restore CHECKPOINT_DIR] [--timeout S]\n"
+    "               [--restore CHECKPOINT_DIR] [--timeout S] [--idle-timeout S]\n"
     "  --backend   RVE backend; must equal coupling.backend of the scene\n"
     "  --scene     scene YAML; only config_version and coupling: are read\n"
     "  --run-dir   run directory shared with mpm_app (--out): the port file goes there\n"
     "  --restore   start the RVEs from a checkpoint directory instead of kInitialise\n"
     "  --timeout   seconds to wait for mpm_app (default coupling.connect_timeout_s)\n"
+    "  --idle-timeout  exit if mpm_app sends nothing for this long (default 600 s;\n"
+    "              0: wait forever). Open MPI does not report a killed peer.\n"
     "       dem_app --print-backend FILE   print coupling.backend of a scene and exit\n"
     "Run under mpirun with the same --ompi-server file:URI as mpm_app (see docs/protocol.md).\n";
 
 struct Args {
   std::string backend, scene, run_dir, restore;
   std::optional<double> timeout;
+  double idle_timeout = 600.0;
 };
 
 struct UsageError : std::runtime_error {
@@ -63,13 +66,19 @@ Args parse(int argc, char** argv) {
       a.run_dir = value;
     } else if (key == "--restore") {
       a.restore = value;
-    } else if (key == "--timeout") {
+    } else if (key == "--timeout" || key == "--idle-timeout") {
       char* end = nullptr;
       const double t = std::strtod(value.c_str(), &end);
-      if (end == value.c_str() || *end != '\0' || !(t > 0.0)) {
-        throw UsageError("--timeout must be a number of seconds > 0, got '" + value + "'");
+      const bool idle = key == "--idle-timeout";
+      if (end == value.c_str() || *end != '\0' || !(idle ? t >= 0.0 : t > 0.0)) {
+        throw UsageError(key + " must be a number of seconds " + (idle ? ">= 0" : "> 0") +
+                         ", got '" + value + "'");
       }
-      a.timeout = t;
+      if (idle) {
+        a.idle_timeout = t;
+      } else {
+        a.timeout = t;
+      }
     } else {
       throw UsageError("unknown option '" + key + "'");
     }
@@ -114,6 +123,7 @@ int run(int argc, char** argv, int rank) {
   opts.config_hash = mpmdem::fnv1a64(mpmdem::coupling_canonical_text(*cfg));
   opts.run_dir = std::filesystem::absolute(args.run_dir);
   opts.restore_dir = args.restore;
+  opts.idle_timeout_s = args.idle_timeout;
   opts.connect.service_name = cfg->string("coupling.service_name");
   opts.connect.port_file = opts.run_dir / cfg->string("coupling.port_file");
   opts.connect.timeout_s = args.timeout.value_or(cfg->number("coupling.connect_timeout_s"));

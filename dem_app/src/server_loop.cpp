@@ -2,9 +2,14 @@
 #include "server_loop.hpp"
 
 #include <chrono>
+#include <condition_variable>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <iostream>
+#include <mutex>
+#include <thread>
 #include <vector>
 
 #include "mpmdem/errors.hpp"
@@ -51,6 +56,72 @@ void summarise(const std::vector<RveReply>& replies, std::uint64_t first_rve, Ra
     }
   }
 }
+
+// Ends the server if the client stays silent for too long while the server waits for its
+// next message (a client killed with SIGKILL leaves the server blocked in MPI_Bcast
+// forever: Open MPI does not report the peer's death). Time spent computing is not counted.
+class IdleWatchdog {
+ public:
+  IdleWatchdog(double seconds, bool root) : seconds_(seconds), root_(root) {
+    if (seconds_ > 0.0) thread_ = std::thread([this] { run(); });
+  }
+  ~IdleWatchdog() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    cv_.notify_all();
+    if (thread_.joinable()) thread_.join();
+  }
+  IdleWatchdog(const IdleWatchdog&) = delete;
+  IdleWatchdog& operator=(const IdleWatchdog&) = delete;
+  void arm() { set(true); }
+  void disarm() { set(false); }
+
+ private:
+  void set(bool armed) {
+    if (seconds_ <= 0.0) return;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      armed_ = armed;
+      since_ = std::chrono::steady_clock::now();
+    }
+    cv_.notify_all();
+  }
+  void run() {
+    // Non-root ranks wait a little longer so that rank 0 prints first.
+    const auto limit = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+        std::chrono::duration<double>(seconds_ + (root_ ? 0.0 : 5.0)));
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (!stop_) {
+      if (!armed_) {
+        cv_.wait(lock);
+        continue;
+      }
+      const auto deadline = since_ + limit;
+      if (cv_.wait_until(lock, deadline) == std::cv_status::timeout && armed_ && !stop_ &&
+          std::chrono::steady_clock::now() >= since_ + limit) {
+        if (root_) {
+          std::fprintf(stderr,
+                       "dem_app: error: no message from mpm_app for %g s (--idle-timeout); "
+                       "assuming it died, exiting\n",
+                       seconds_);
+          std::fflush(stderr);
+        }
+        std::_Exit(kExitPeerError);
+      }
+    }
+  }
+
+  double seconds_;
+  bool root_;
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  bool armed_ = false;
+  bool stop_ = false;
+  std::chrono::steady_clock::time_point since_;
+  std::thread thread_;
+};
 
 void fail_all(std::vector<RveReply>& replies) {
   for (auto& reply : replies) {
@@ -100,7 +171,12 @@ int serve(const ServerOptions& opts, const BackendMaker& make_backend) {
   std::vector<RveReply> replies(ctx.n_rve);
   ControlHeader header;
   std::int64_t steps = 0;
-  while (channel.next(header)) {
+  IdleWatchdog idle(opts.idle_timeout_s, root);
+  for (;;) {
+    idle.arm();
+    const bool more = channel.next(header);
+    idle.disarm();
+    if (!more) break;
     RankReport report = make_report(ctx.rank);
     const auto kind = static_cast<MessageKind>(header.kind);
     // O_I: this rank's part of the payload.

@@ -23,6 +23,7 @@ struct ServerOptions {
   std::uint64_t config_hash = 0;  // hash of the canonical coupling section
   std::filesystem::path run_dir;
   std::filesystem::path restore_dir;  // empty: start from the client's kInitialise
+  double idle_timeout_s = 0.0;        // > 0: exit if the client is silent this long
 };
 
 using BackendMaker = std::function<std::unique_ptr<RveBackend>(const BackendContext&)>;

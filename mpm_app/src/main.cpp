@@ -4,7 +4,7 @@
 //   mpm_app --print-config-reference                       every key: type, default, unit
 //   mpm_app --print-model FILE                             linear_elastic | remote
 //   mpm_app --version
-// Exit codes: 0 ok, 2 config/usage/output-directory error, 4 simulation failed,
+// Exit codes: 0 ok, 2 config/usage/output-directory error, 3 handshake refused, 4 failed,
 // 130 interrupted (see run_driver.hpp).
 #include <mpi.h>
 
@@ -81,7 +81,7 @@ int main(int argc, char** argv) {
   app.add_option("--out", options.out_dir,
                  "run directory (default: runs/<scene>-<UTC yyyymmdd-HHMMSS>)");
   app.add_option("--threads", options.threads, "OpenMP threads (default: solver.threads)")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1, 1024));
   app.add_flag("--force", options.force, "overwrite a run directory that holds an earlier run");
   app.add_option("--check-config", check_file, "validate a scene file and exit");
   app.add_flag("--print-config-reference", print_reference,

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <ctime>
 #include <iostream>
 #include <limits>
 #include <memory>
@@ -15,6 +16,7 @@
 #include "constitutive/remote.hpp"
 #include "errors.hpp"
 #include "mpmdem/config/schema.hpp"
+#include "mpmdem/errors.hpp"
 #include "output/energy_log.hpp"
 #include "output/hdf5_writer.hpp"
 #include "output/run_directory.hpp"
@@ -116,6 +118,13 @@ std::string find_non_finite(const Particles& p) {
   return "";
 }
 
+// CPU time of the whole process (all threads) [s].
+double process_cpu_time() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
 std::string format_seconds(double s) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.3e", s);
@@ -128,183 +137,147 @@ void request_stop() {
   g_stop = 1;
 }
 
-RunResult run_scene(const Scene& scene_in, const RunOptions& opt) {
-  std::ostream& out = opt.out ? *opt.out : std::cout;
-  std::ostream& err = opt.err ? *opt.err : std::cerr;
-  const auto wall_start = std::chrono::steady_clock::now();
-  auto wall_time = [&wall_start] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  };
+namespace {
 
-  Scene scene = scene_in;
-  if (opt.threads > 0) scene.solver.threads = opt.threads;
-  if (scene.solver.threads > 0) omp_set_num_threads(scene.solver.threads);
-  g_stop = 0;
-
-  RunResult result;
-  RunSummary& s = result.summary;
-  s.scene = scene.name;
-  s.config_file = scene.source_file;
-  s.model = model_name(scene.constitutive.model);
-  s.program_version = MPMDEM_VERSION;
-  s.end_time_s = scene.solver.end_time;
-  s.threads = omp_get_max_threads();
-  s.verification_kind = verification_name(scene.verification.kind);
-  const std::string dir = opt.out_dir.empty() ? default_run_directory(scene.name) : opt.out_dir;
-
-  // What can reject the scene is done before the run directory is created or touched.
-  std::unique_ptr<Solver> solver;
-  bool dir_created = false;
-  auto setup_failed = [&](const std::string& what, int code) {
-    err << "error: " << what << std::endl;
-    result.exit_code = code;
-    if (dir_created) {
-      result.run_dir = dir;
-      s.status = "failed";
-      s.error = what;
-      s.run_directory = dir;
-      s.wall_time_s = wall_time();
-      try {
-        write_summary(dir + "/summary.json", s);
-      } catch (const std::exception& e) {
-        err << "error: " << e.what() << std::endl;
-      }
-    }
-    return result;
-  };
-  try {
-    check_run_directory(dir, opt.force);
-    Particles particles = generate_particles(scene);
-    s.n_material_points = particles.size();
-    if (opt.provider_factory) {
-      const std::size_t n = particles.size();
-      solver =
-          std::make_unique<Solver>(scene, std::move(particles), opt.provider_factory(scene, n));
-      create_run_directory(dir, opt.force);
-      dir_created = true;
-    } else if (scene.constitutive.model == ModelKind::kLinearElastic) {
-      solver = std::make_unique<Solver>(scene, std::move(particles),
-                                        make_linear_elastic(scene.constitutive));
-      create_run_directory(dir, opt.force);
-      dir_created = true;
-    } else {
-      create_run_directory(dir, opt.force);
-      dir_created = true;
-      const std::size_t n = particles.size();
-      solver = std::make_unique<Solver>(scene, std::move(particles),
-                                        make_remote_provider(scene, n, dir));
-    }
-  } catch (const SceneError& e) {
-    return setup_failed(e.what(), 2);
-  } catch (const config::ConfigError& e) {
-    return setup_failed(e.what(), 2);
-  } catch (const RunDirectoryError& e) {
-    return setup_failed(e.what(), 2);
-  } catch (const std::exception& e) {
-    return setup_failed(std::string("setting up the run failed: ") + e.what(), 4);
+// One run: set-up, time loop, final outputs, summary. RunResult is filled as it goes.
+class Run {
+ public:
+  Run(const Scene& scene, const RunOptions& opt)
+      : scene_(scene),
+        opt_(opt),
+        out_(opt.out ? *opt.out : std::cout),
+        err_(opt.err ? *opt.err : std::cerr),
+        wall_start_(std::chrono::steady_clock::now()) {
+    if (opt.threads > 0) scene_.solver.threads = opt.threads;
+    if (scene_.solver.threads > 0) omp_set_num_threads(scene_.solver.threads);
+    dir_ = opt.out_dir.empty() ? default_run_directory(scene_.name) : opt.out_dir;
   }
 
-  result.run_dir = dir;
-  s.run_directory = dir;
-  s.model = solver->provider().name();
-  const Particles& P = solver->particles();
-  s.mass_initial_kg = total_mass(P);
-  out << "mpm_app " << MPMDEM_VERSION << ": scene '" << scene.name << "' (" << scene.source_file
-      << ")\n"
-      << "  " << P.size() << " material points, cell size " << scene.grid.cell_size << " m, model "
-      << s.model << ", " << s.threads << " thread(s), end time " << scene.solver.end_time << " s\n"
-      << "  results: " << dir << std::endl;
-
-  SignalGuard signals(opt.handle_signals);
-  Progress progress(out, scene.output.progress_interval_s);
-  std::optional<EnergyLog> energy;
-  std::optional<VtkSeries> vtk;
-  std::optional<BarVibrationMonitor> bar;
-  double dt_logged = 0.0;
-  s.dt_min_s = std::numeric_limits<double>::infinity();
-  s.dt_max_s = 0.0;
-  s.status = "complete";
-  std::int64_t last_energy_step = -1;
-  std::int64_t last_frame_step = -1;
-  double last_dt = 0.0;
-
-  auto print_events = [&] {
-    for (const std::string& e : solver->take_events()) {
-      out << "[step " << solver->step_count() << ", t=" << solver->time() << " s] " << e
-          << std::endl;
+  RunResult execute() {
+    g_stop = 0;
+    if (!set_up()) return result_;
+    SignalGuard signals(opt_.handle_signals);
+    try {
+      time_loop();
+      final_outputs();
+      if (s().status == "complete") verify();
+      result_.exit_code = s().status == "interrupted" ? 130 : 0;
+    } catch (const std::exception& e) {
+      fail(e);
     }
-  };
-  auto require_finite = [&] {
-    const std::string bad = find_non_finite(solver->particles());
-    if (!bad.empty()) {
-      throw SimulationError(bad + " at step " + std::to_string(solver->step_count()) +
-                            "; the state is not written");
-    }
-  };
-  auto log_energy = [&](double dt) {
-    const Energies e = solver->energies();
-    energy->append({solver->time(), solver->step_count(), dt, e.E_p, e.E_k, e.E_strain,
-                    solver->initial_potential_energy()});
-    last_energy_step = solver->step_count();
-  };
-  auto write_frame = [&] {
-    if (!vtk) return;
-    require_finite();
-    vtk->write_frame(solver->particles(), solver->time());
-    last_frame_step = solver->step_count();
-  };
-  auto progress_state = [&] {
-    return ProgressState{solver->step_count(),   solver->time(),
-                         scene.solver.end_time,  last_dt,
-                         solver->energies().E_k, solver->initial_potential_energy()};
-  };
+    finish();
+    return result_;
+  }
 
-  try {
-    energy.emplace(dir + "/energies.csv");
+ private:
+  RunSummary& s() { return result_.summary; }
+  double wall_time() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start_).count();
+  }
+
+  // Particles, provider and solver. Whatever can reject the scene is done before the run
+  // directory is created or touched (a remote provider needs the directory for the server's
+  // port file, so it comes after). Returns false if the run cannot start.
+  bool set_up() {
+    RunSummary& sum = s();
+    sum.scene = scene_.name;
+    sum.config_file = scene_.source_file;
+    sum.model = model_name(scene_.constitutive.model);
+    sum.program_version = MPMDEM_VERSION;
+    sum.end_time_s = scene_.solver.end_time;
+    sum.threads = omp_get_max_threads();
+    sum.verification_kind = verification_name(scene_.verification.kind);
+    try {
+      check_run_directory(dir_, opt_.force);
+      Particles particles = generate_particles(scene_);
+      const std::size_t n = particles.size();
+      sum.n_material_points = n;
+      if (opt_.provider_factory || scene_.constitutive.model == ModelKind::kLinearElastic) {
+        auto provider = opt_.provider_factory ? opt_.provider_factory(scene_, n)
+                                              : make_linear_elastic(scene_.constitutive);
+        solver_ = std::make_unique<Solver>(scene_, std::move(particles), std::move(provider));
+        create_directory();
+      } else {
+        create_directory();
+        solver_ = std::make_unique<Solver>(scene_, std::move(particles),
+                                           make_remote_provider(scene_, n, dir_));
+      }
+    } catch (const SceneError& e) {
+      return setup_failed(e.what(), kExitConfigError);
+    } catch (const config::ConfigError& e) {
+      return setup_failed(e.what(), kExitConfigError);
+    } catch (const RunDirectoryError& e) {
+      return setup_failed(e.what(), kExitConfigError);
+    } catch (const HandshakeError& e) {
+      return setup_failed(e.what(), kExitHandshakeError);
+    } catch (const std::exception& e) {
+      return setup_failed(std::string("setting up the run failed: ") + e.what(), kExitPeerError);
+    }
+    sum.model = solver_->provider().name();
+    sum.mass_initial_kg = total_mass(solver_->particles());
+    sum.dt_min_s = std::numeric_limits<double>::infinity();
+    sum.status = "complete";
+    out_ << "mpm_app " << MPMDEM_VERSION << ": scene '" << scene_.name << "' ("
+         << scene_.source_file << ")\n  " << solver_->particles().size()
+         << " material points, cell size " << scene_.grid.cell_size << " m, model " << sum.model
+         << ", " << sum.threads << " thread(s), end time " << scene_.solver.end_time
+         << " s\n  results: " << dir_ << std::endl;
+    return true;
+  }
+
+  void create_directory() {
+    create_run_directory(dir_, opt_.force);
+    dir_created_ = true;
+    result_.run_dir = dir_;
+    s().run_directory = dir_;
+  }
+
+  bool setup_failed(const std::string& what, int code) {
+    err_ << "error: " << what << std::endl;
+    result_.exit_code = code;
+    if (dir_created_) {  // mark the directory's (empty) results as failed
+      s().status = "failed";
+      s().error = what;
+      s().wall_time_s = wall_time();
+      write_summary_file();
+    }
+    return false;
+  }
+
+  // Step until the end time or a stop request; energies, frames and progress on the way.
+  void time_loop() {
+    energy_.emplace(dir_ + "/energies.csv");
     log_energy(0.0);
-    if (scene.output.vtk) vtk.emplace(dir);
+    if (scene_.output.vtk) vtk_.emplace(dir_);
     write_frame();
-    if (scene.verification.kind == VerificationKind::kBarVibration) {
-      bar.emplace(scene);
-      bar->record(solver->time(), P);
+    if (scene_.verification.kind == VerificationKind::kBarVibration) {
+      bar_.emplace(scene_);
+      bar_->record(solver_->time(), solver_->particles());
     }
     print_events();
 
-    const double frame_interval = scene.output.interval;
-    const double energy_interval = scene.output.energy_interval;
+    const double frame_interval = scene_.output.interval;
+    const double energy_interval = scene_.output.energy_interval;
     double next_frame =
         frame_interval > 0.0 ? frame_interval : std::numeric_limits<double>::infinity();
     double next_energy = energy_interval > 0.0 ? energy_interval : 0.0;
-    progress.start(solver->time());
+    Progress progress(out_, scene_.output.progress_interval_s);
+    progress.start(solver_->time());
 
-    while (!solver->finished()) {
+    while (!solver_->finished()) {
       if (g_stop) {
-        s.status = "interrupted";
-        out << "stop requested: stopping after step " << solver->step_count() << std::endl;
+        s().status = "interrupted";
+        out_ << "stop requested: stopping after step " << solver_->step_count() << std::endl;
         break;
       }
-      const auto step_start = std::chrono::steady_clock::now();
-      solver->step();
-      s.step_wall_time_s +=
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - step_start).count();
-      const double t = solver->time();
-      const double dt = solver->dt();
-      last_dt = dt;
-      s.dt_min_s = std::min(s.dt_min_s, dt);
-      s.dt_max_s = std::max(s.dt_max_s, dt);
-      if (dt_logged == 0.0) {
-        out << "time step: dt = " << format_seconds(dt) << " s" << std::endl;
-        dt_logged = dt;
-      } else if (std::abs(dt - dt_logged) > 0.1 * dt_logged) {
-        out << "time step: dt = " << format_seconds(dt) << " s from step " << solver->step_count()
-            << " (t=" << t << " s; was " << format_seconds(dt_logged) << " s)" << std::endl;
-        dt_logged = dt;
-      }
+      timed_step();
+      const double t = solver_->time();
+      const double tol = 1e-6 * last_dt_;
+      log_time_step();
       print_events();
-      if (bar) bar->record(t, P);
-      const double tol = 1e-6 * dt;
+      if (bar_) bar_->record(t, solver_->particles());
       if (t >= next_energy - tol) {
-        log_energy(dt);
+        log_energy(last_dt_);
         while (energy_interval > 0.0 && next_energy <= t + tol) next_energy += energy_interval;
       }
       if (t >= next_frame - tol) {
@@ -313,86 +286,180 @@ RunResult run_scene(const Scene& scene_in, const RunOptions& opt) {
       }
       if (progress.due()) progress.update(progress_state());
     }
+    progress.print(progress_state());
+  }
 
-    // Final outputs (complete or interrupted).
-    if (last_energy_step != solver->step_count()) log_energy(last_dt);
-    if (last_frame_step != solver->step_count()) write_frame();
-    if (scene.output.hdf5) {
-      require_finite();
-      write_final_state(dir + "/final_state.h5", solver->particles(),
-                        {solver->time(), solver->step_count(), scene.name, scene.source_file});
+  void timed_step() {
+    const auto wall_start = std::chrono::steady_clock::now();
+    const double cpu_start = process_cpu_time();
+    solver_->step();
+    s().step_wall_time_s +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+    s().step_cpu_time_s += process_cpu_time() - cpu_start;
+    last_dt_ = solver_->dt();
+    s().dt_min_s = std::min(s().dt_min_s, last_dt_);
+    s().dt_max_s = std::max(s().dt_max_s, last_dt_);
+  }
+
+  // The step used: at the first step and whenever it changed by more than 10%.
+  void log_time_step() {
+    if (dt_logged_ == 0.0) {
+      out_ << "time step: dt = " << format_seconds(last_dt_) << " s" << std::endl;
+    } else if (std::abs(last_dt_ - dt_logged_) > 0.1 * dt_logged_) {
+      out_ << "time step: dt = " << format_seconds(last_dt_) << " s from step "
+           << solver_->step_count() << " (t=" << solver_->time() << " s; was "
+           << format_seconds(dt_logged_) << " s)" << std::endl;
+    } else {
+      return;
     }
-    if (s.status == "complete") {
-      if (scene.verification.kind == VerificationKind::kElasticColumn) {
-        const ElasticColumnResult v = verify_elastic_column(scene, solver->particles());
-        s.verification = {{"stress_rel_error", v.stress_rel_error},
+    dt_logged_ = last_dt_;
+  }
+
+  void print_events() {
+    for (const std::string& e : solver_->take_events()) {
+      out_ << "[step " << solver_->step_count() << ", t=" << solver_->time() << " s] " << e
+           << std::endl;
+    }
+  }
+
+  void require_finite() const {
+    const std::string bad = find_non_finite(solver_->particles());
+    if (!bad.empty()) {
+      throw SimulationError(bad + " at step " + std::to_string(solver_->step_count()) +
+                            "; the state is not written");
+    }
+  }
+
+  void log_energy(double dt) {
+    const Energies e = solver_->energies();
+    energy_->append({solver_->time(), solver_->step_count(), dt, e.E_p, e.E_k, e.E_strain,
+                     solver_->initial_potential_energy()});
+    last_energy_step_ = solver_->step_count();
+  }
+
+  void write_frame() {
+    if (!vtk_) return;
+    require_finite();
+    vtk_->write_frame(solver_->particles(), solver_->time());
+    last_frame_step_ = solver_->step_count();
+  }
+
+  ProgressState progress_state() const {
+    return {solver_->step_count(),   solver_->time(),
+            scene_.solver.end_time,  last_dt_,
+            solver_->energies().E_k, solver_->initial_potential_energy()};
+  }
+
+  // Last energy row and frame (if not just written), and the final state (complete or
+  // interrupted runs).
+  void final_outputs() {
+    if (last_energy_step_ != solver_->step_count()) log_energy(last_dt_);
+    if (last_frame_step_ != solver_->step_count()) write_frame();
+    if (scene_.output.hdf5) {
+      require_finite();
+      write_final_state(dir_ + "/final_state.h5", solver_->particles(),
+                        {solver_->time(), solver_->step_count(), scene_.name, scene_.source_file});
+    }
+  }
+
+  void verify() {
+    if (scene_.verification.kind == VerificationKind::kElasticColumn) {
+      const ElasticColumnResult v = verify_elastic_column(scene_, solver_->particles());
+      s().verification = {{"stress_rel_error", v.stress_rel_error},
                           {"settlement_rel_error", v.settlement_rel_error},
                           {"settlement_top_m", v.settlement_top_m},
                           {"settlement_top_expected_m", v.settlement_top_expected_m},
                           {"settlement_surface_expected_m", v.settlement_surface_expected_m}};
-      } else if (bar) {
-        const BarVibrationResult v = bar->result();
-        s.verification = {{"period_s", v.period_s},
+    } else if (bar_) {
+      const BarVibrationResult v = bar_->result();
+      s().verification = {{"period_s", v.period_s},
                           {"period_expected_s", v.period_expected_s},
                           {"period_rel_error", v.period_rel_error},
                           {"zero_crossings", static_cast<double>(v.crossings)},
                           {"wave_speed_m_s", v.wave_speed_m_s},
                           {"length_m", v.length_m}};
-      }
     }
-    progress.print(progress_state());
-    result.exit_code = s.status == "interrupted" ? 130 : 0;
-  } catch (const std::exception& e) {
+  }
+
+  void fail(const std::exception& e) {
     // A SimulationError names the point and the step itself; other faults get the step.
     std::ostringstream msg;
     if (dynamic_cast<const SimulationError*>(&e) == nullptr) {
-      msg << "at step " << solver->step_count() << " (t=" << solver->time() << " s): ";
+      msg << "at step " << solver_->step_count() << " (t=" << solver_->time() << " s): ";
     }
     msg << e.what();
-    s.status = "failed";
-    s.error = msg.str();
-    err << "error: " << s.error << std::endl;
-    result.exit_code = 4;
+    s().status = "failed";
+    s().error = msg.str();
+    err_ << "error: " << s().error << std::endl;
+    result_.exit_code =
+        dynamic_cast<const HandshakeError*>(&e) ? kExitHandshakeError : kExitPeerError;
   }
 
-  // A complete or interrupted run ends the provider in order (remote: the servers shut down
-  // and exit 0). After a failure it is not finished: destroying it (at the end of this
-  // function) aborts, so a remote server ends with an error too.
-  if (s.status != "failed") {
+  // Provider end, headline figures, summary.json, closing lines.
+  void finish() {
+    RunSummary& sum = s();
+    // A complete or interrupted run ends the provider in order (remote: the servers shut
+    // down and exit 0). After a failure it is not finished: destroying it aborts, so a
+    // remote server ends with an error too.
+    if (sum.status != "failed") {
+      try {
+        solver_->provider().finish();
+      } catch (const std::exception& e) {
+        err_ << "warning: ending the constitutive provider: " << e.what() << std::endl;
+      }
+    }
+    const Particles& p = solver_->particles();
+    sum.steps = solver_->step_count();
+    sum.time_s = solver_->time();
+    sum.removed_points = solver_->removed_points();
+    sum.n_material_points = p.size() + sum.removed_points;
+    sum.mass_final_kg = total_mass(p);
+    if (!(sum.dt_min_s <= sum.dt_max_s)) sum.dt_min_s = sum.dt_max_s = 0.0;
+    const Energies e = solver_->energies();
+    sum.E_p0_J = solver_->initial_potential_energy();
+    sum.E_p_J = e.E_p;
+    sum.E_k_J = e.E_k;
+    if (opt_.final_particles) *opt_.final_particles = p;
+    sum.wall_time_s = wall_time();
+    if (!write_summary_file() && result_.exit_code == 0) result_.exit_code = kExitPeerError;
+    out_ << "status: " << sum.status << ", " << sum.steps << " steps, t=" << sum.time_s
+         << " s, wall " << sum.wall_time_s << " s" << std::endl;
+    for (const auto& [key, value] : sum.verification) out_ << "  " << key << " = " << value << "\n";
+    out_ << "results: " << dir_ << std::endl;
+  }
+
+  bool write_summary_file() {
     try {
-      solver->provider().finish();
+      write_summary(dir_ + "/summary.json", s());
+      return true;
     } catch (const std::exception& e) {
-      err << "warning: ending the constitutive provider: " << e.what() << std::endl;
+      err_ << "error: writing summary.json: " << e.what() << std::endl;
+      return false;
     }
   }
 
-  s.steps = solver->step_count();
-  s.time_s = solver->time();
-  s.removed_points = solver->removed_points();
-  s.n_material_points = solver->particles().size() + s.removed_points;
-  s.mass_final_kg = total_mass(solver->particles());
-  if (!(s.dt_min_s <= s.dt_max_s)) s.dt_min_s = s.dt_max_s = 0.0;
-  try {
-    const Energies e = solver->energies();
-    s.E_p0_J = solver->initial_potential_energy();
-    s.E_p_J = e.E_p;
-    s.E_k_J = e.E_k;
-  } catch (const std::exception&) {
-  }
-  if (opt.final_particles) *opt.final_particles = solver->particles();
-  s.wall_time_s = wall_time();
-  try {
-    write_summary(dir + "/summary.json", s);
-  } catch (const std::exception& e) {
-    err << "error: writing summary.json: " << e.what() << std::endl;
-    if (result.exit_code == 0) result.exit_code = 4;
-  }
+  Scene scene_;
+  const RunOptions& opt_;
+  std::ostream& out_;
+  std::ostream& err_;
+  std::chrono::steady_clock::time_point wall_start_;
+  std::string dir_;
+  bool dir_created_ = false;
+  RunResult result_;
+  std::unique_ptr<Solver> solver_;
+  std::optional<EnergyLog> energy_;
+  std::optional<VtkSeries> vtk_;
+  std::optional<BarVibrationMonitor> bar_;
+  double last_dt_ = 0.0;
+  double dt_logged_ = 0.0;
+  std::int64_t last_energy_step_ = -1;
+  std::int64_t last_frame_step_ = -1;
+};
 
-  out << "status: " << s.status << ", " << s.steps << " steps, t=" << s.time_s << " s, wall "
-      << s.wall_time_s << " s" << std::endl;
-  for (const auto& [key, value] : s.verification) out << "  " << key << " = " << value << "\n";
-  out << "results: " << dir << std::endl;
-  return result;
+}  // namespace
+
+RunResult run_scene(const Scene& scene, const RunOptions& options) {
+  return Run(scene, options).execute();
 }
 
 }  // namespace mpmdem::mpm

@@ -5,7 +5,8 @@
 // Exit codes (RunResult::exit_code, returned by mpm_app):
 //   0   complete
 //   2   scene or output-directory fault, found before the run directory was created
-//   4   the simulation failed (SimulationError, non-finite state, provider/peer error);
+//   3   the DEM server refused the handshake (versions, config hash, ...; remote model)
+//   4   the simulation failed (SimulationError, non-finite state, no server, peer error);
 //       summary.json says "status": "failed" with the message
 //   130 interrupted by SIGINT/SIGTERM: stopped after the current step, outputs written,
 //       "status": "interrupted"

@@ -260,6 +260,11 @@ void Solver::handle_points_outside_grid() {
     return ": x = " + vec(p_.x[q]) + " is outside the grid box " + vec(grid_.origin) + " to " +
            vec(grid_.upper());
   };
+  if (!p_.x[first].allFinite()) {  // not a geometric exit: the state is broken
+    throw SimulationError(describe_point(first) + " has a non-finite position after step " +
+                          std::to_string(step_) +
+                          ": the run is unstable (reduce solver.cfl or solver.dt_max)");
+  }
   if (scene_.solver.on_exit == OnExit::kError) {
     std::ostringstream msg;
     msg << "material point " << p_.id[first]

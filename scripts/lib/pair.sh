@@ -17,6 +17,7 @@ PAIR_URI=""
 PAIR_SERVER_PID=""
 PAIR_CLIENT_PID=""
 PAIR_CLIENT_LOCAL=0
+PAIR_FINAL_HOOK=""  # function run after an interrupt's cleanup (e.g. print the results)
 
 # mpirun options for two separately launched jobs on one machine. Open MPI 4 needs the
 # shared ompi-server for connect/accept; binding is off so that OpenMP threads and several
@@ -87,6 +88,7 @@ pair_interrupt() {
     done
   fi
   pair_cleanup
+  if [[ -n $PAIR_FINAL_HOOK ]]; then "$PAIR_FINAL_HOOK"; fi
   exit 130
 }
 

@@ -9,7 +9,7 @@ target_link_libraries(rve_test_client PRIVATE dem_server)
 set(_pair ${CMAKE_CURRENT_LIST_DIR}/coupling_tests.sh)
 set(_env "MPMDEM_BIN=${PROJECT_BINARY_DIR}" "MPMDEM_SRC=${PROJECT_SOURCE_DIR}")
 foreach(_case
-    client_elastic_1rank client_elastic_2ranks client_checkpoint_restore client_abort client_backend_error
+    client_elastic_1rank client_elastic_2ranks client_checkpoint_restore client_abort client_backend_error killed_client
     hash_mismatch version_mismatch no_server_client no_client_server
     mpm_no_server mpm_hash_mismatch swap_sides)
   add_test(NAME coupling_${_case} COMMAND bash ${_pair} ${_case})

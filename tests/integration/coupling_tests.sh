@@ -129,6 +129,27 @@ case $case_name in
       "client names the rank and the backend's reason"
     expect_in server.log "mpm_app aborted the run" "server reports the abort"
     ;;
+  killed_client)
+    # The client is killed (SIGKILL) mid-run: Open MPI does not tell the server, whose
+    # --idle-timeout ends it with a message instead of a hang.
+    write_scene scene.yaml 1.0e7
+    pair_start_ompi_server "$work" || exit 1
+    pair_start_server 2 "$work/server.log" "$dem_app" --backend elastic --scene scene.yaml \
+      --run-dir "$work/run" --idle-timeout 3
+    pair_start_client 1 "$work/client.log" "$client" --scene scene.yaml --run-dir "$work/run" \
+      --n 50 --steps 100000000
+    for i in $(seq 1 100); do grep -q "connected;" server.log 2>/dev/null && break; sleep 0.1; done
+    sleep 0.5
+    rank=$(pgrep -P "$PAIR_CLIENT_PID" -x rve_test_client)
+    [[ -n $rank ]] || fail "client rank not found"
+    start=$SECONDS
+    kill -KILL $rank
+    server_rc=0
+    pair_wait_server 30 || server_rc=$?
+    expect_rc "dem_app" "$server_rc" 4
+    expect_in server.log "no message from mpm_app for 3 s \(--idle-timeout\)" "server explains why it ends"
+    expect_within $((SECONDS - start)) 15 "the server's exit"
+    ;;
   hash_mismatch)
     # The server reads a scene whose coupling section differs (another Young's modulus).
     write_scene scene.yaml 1.0e7

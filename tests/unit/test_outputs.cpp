@@ -309,9 +309,13 @@ TEST(Hdf5Writer, FinalStateReadsBackWithTheCApi) {
   EXPECT_EQ(step, 4321);
   const hid_t n_attr = H5Aopen(file, "scene", H5P_DEFAULT);
   ASSERT_GE(n_attr, 0);
-  const hid_t type = H5Aget_type(n_attr);
-  std::string scene(H5Tget_size(type), '\0');
-  H5Aread(n_attr, type, scene.data());
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, H5T_VARIABLE);
+  H5Tset_cset(type, H5T_CSET_UTF8);
+  char* text = nullptr;
+  ASSERT_GE(H5Aread(n_attr, type, &text), 0);
+  const std::string scene = text ? text : "";
+  H5free_memory(text);
   H5Tclose(type);
   H5Aclose(n_attr);
   EXPECT_EQ(scene, "column");

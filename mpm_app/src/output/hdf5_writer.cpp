@@ -65,13 +65,13 @@ void write_attribute(hid_t loc, const std::string& name, hid_t type, const void*
   check(H5Awrite(attr.get(), type, value), "write attribute " + name);
 }
 
+// Variable-length UTF-8 string: h5py reads it as str.
 void write_string_attribute(hid_t loc, const std::string& name, const std::string& value) {
   Handle type(H5Tcopy(H5T_C_S1), H5Tclose, "copy string type");
-  check(H5Tset_size(type.get(), value.empty() ? 1 : value.size()), "size string type");
-  check(H5Tset_strpad(type.get(), H5T_STR_NULLPAD), "pad string type");
+  check(H5Tset_size(type.get(), H5T_VARIABLE), "size string type");
   check(H5Tset_cset(type.get(), H5T_CSET_UTF8), "set string charset");
-  const std::string stored = value.empty() ? std::string(1, '\0') : value;
-  write_attribute(loc, name, type.get(), stored.data());
+  const char* text = value.c_str();
+  write_attribute(loc, name, type.get(), &text);
 }
 
 }  // namespace

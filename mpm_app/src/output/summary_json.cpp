@@ -82,6 +82,7 @@ std::string to_json(const RunSummary& s) {
   w.str("program_version", s.program_version);
   w.num("wall_time_s", s.wall_time_s);
   w.num("step_wall_time_s", s.step_wall_time_s);
+  w.num("step_cpu_time_s", s.step_cpu_time_s);
   w.integer("steps", s.steps);
   w.integer("n_material_points", static_cast<long long>(s.n_material_points));
   w.integer("removed_points", static_cast<long long>(s.removed_points));
@@ -89,6 +90,7 @@ std::string to_json(const RunSummary& s) {
   const double point_steps =
       static_cast<double>(s.steps) * static_cast<double>(s.n_material_points);
   w.num("ns_per_point_step", point_steps > 0.0 ? 1e9 * s.step_wall_time_s / point_steps : 0.0);
+  w.num("cpu_ns_per_point_step", point_steps > 0.0 ? 1e9 * s.step_cpu_time_s / point_steps : 0.0);
   w.num("time_s", s.time_s);
   w.num("end_time_s", s.end_time_s);
   w.num("dt_min_s", s.dt_min_s);

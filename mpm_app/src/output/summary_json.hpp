@@ -5,6 +5,8 @@
 //   wall_time_s, steps, n_material_points, removed_points, threads
 //   step_wall_time_s   wall time inside the solver's steps only (no set-up, no output)
 //   ns_per_point_step  step_wall_time_s / (steps * n_material_points) in ns
+//   step_cpu_time_s    CPU time of all threads inside the steps (a busy machine inflates
+//                      the wall time but not this)
 //   time_s, end_time_s, dt_min_s, dt_max_s
 //   mass_initial_kg, mass_final_kg, E_p0_J, E_p_J, E_k_J, E_d_J, E_d_over_E_p0
 //   verification       {"kind": ..., <error figures of that kind>} (absent for kind none)
@@ -28,6 +30,7 @@ struct RunSummary {
   std::string program_version;
   double wall_time_s = 0.0;
   double step_wall_time_s = 0.0;
+  double step_cpu_time_s = 0.0;
   std::int64_t steps = 0;
   std::size_t n_material_points = 0;
   std::size_t removed_points = 0;

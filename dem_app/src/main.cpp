@@ -4,6 +4,7 @@
 //   mpirun --ompi-server file:URI -np N dem_app --backend elastic|yade --scene FILE
 //          --run-dir DIR [--restore CHECKPOINT_DIR] [--timeout S] [--idle-timeout S]
 //   dem_app --print-backend FILE     coupling.backend of a scene (no MPI; for scripts/run)
+//   dem_app --print-port-file FILE   coupling.port_file of a scene (no MPI; for scripts/run)
 //
 // Exit codes: 0 after an orderly shutdown, 2 config/command-line error, 3 handshake
 // refused, 4 no client / MPI failure / client aborted.
@@ -36,6 +37,7 @@ constexpr const char* kUsage =
     "  --idle-timeout  exit if mpm_app sends nothing for this long (default 600 s;\n"
     "              0: wait forever). Open MPI does not report a killed peer.\n"
     "       dem_app --print-backend FILE   print coupling.backend of a scene and exit\n"
+    "       dem_app --print-port-file FILE print coupling.port_file of a scene and exit\n"
     "Run under mpirun with the same --ompi-server file:URI as mpm_app (see docs/protocol.md).\n";
 
 struct Args {
@@ -137,12 +139,13 @@ int run(int argc, char** argv, int rank) {
 
 }  // namespace
 
-// `dem_app --print-backend FILE`: validated coupling.backend, without starting MPI.
-int print_backend(const std::string& file) {
+// `dem_app --print-backend FILE` / `--print-port-file FILE`: a validated coupling key,
+// without starting MPI (for scripts/run).
+int print_key(const std::string& file, const std::string& key) {
   try {
     const auto cfg = mpmdem::config::Config::load(file, mpmdem::coupling_schema(), "coupling");
     mpmdem::check_coupling(cfg);
-    std::cout << cfg.string("coupling.backend") << "\n";
+    std::cout << cfg.string(key) << "\n";
     return 0;
   } catch (const std::exception& e) {
     std::cerr << "dem_app: config error: " << e.what() << "\n";
@@ -151,7 +154,12 @@ int print_backend(const std::string& file) {
 }
 
 int main(int argc, char** argv) {
-  if (argc == 3 && std::string(argv[1]) == "--print-backend") return print_backend(argv[2]);
+  if (argc == 3 && std::string(argv[1]) == "--print-backend") {
+    return print_key(argv[2], "coupling.backend");
+  }
+  if (argc == 3 && std::string(argv[1]) == "--print-port-file") {
+    return print_key(argv[2], "coupling.port_file");
+  }
   int rank = 0;
   try {
     mpmdem::MpiSession mpi(&argc, &argv, MPI_THREAD_FUNNELED);
@@ -162,7 +170,8 @@ int main(int argc, char** argv) {
       if (rank == 0) std::cerr << "dem_app: error: " << e.what() << "\n";
       return mpmdem::kExitHandshakeError;
     } catch (const mpmdem::PeerError& e) {
-      if (rank == 0) std::cerr << "dem_app: error: " << e.what() << "\n";
+      // Not necessarily the same on every rank (an MPI failure may hit one rank only).
+      std::cerr << "dem_app: rank " << rank << ": error: " << e.what() << std::endl;
       return mpmdem::kExitPeerError;
     }
   } catch (const std::exception& e) {

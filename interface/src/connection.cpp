@@ -3,9 +3,11 @@
 
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -106,7 +108,11 @@ void write_port_file(const std::filesystem::path& file, const std::string& port)
   {
     std::ofstream out(tmp);
     out << port << '\n';
-    if (!out) throw PeerError("cannot write the port file " + tmp.string());
+    if (!out) {
+      throw PeerError("cannot write the port file " + file.string() + " (" + std::strerror(errno) +
+                      "); coupling.port_file is relative to the run directory, which must "
+                      "be writable");
+    }
   }
   std::error_code ec;
   std::filesystem::rename(tmp, file, ec);
@@ -145,22 +151,44 @@ Connection Connection::accept(const ConnectOptions& opts, MPI_Comm local) {
   MPMDEM_CHECK_MPI(MPI_Comm_rank(local, &c.local_rank_));
   MPMDEM_CHECK_MPI(MPI_Comm_size(local, &c.local_size_));
 
+  // Rank 0 opens and announces the port; the others learn whether that worked, so that a
+  // failure (e.g. an unwritable run directory) ends every rank instead of leaving the
+  // others in MPI_Comm_accept.
   std::vector<char> port(MPI_MAX_PORT_NAME + 1, '\0');
   bool published = false;
+  bool port_open = false;
+  std::string failure;
   if (c.local_rank_ == 0) {
-    MPMDEM_CHECK_MPI(MPI_Open_port(MPI_INFO_NULL, port.data()));
-    if (opts.publish) {
-      const int rc = MPI_Publish_name(opts.service_name.c_str(), MPI_INFO_NULL, port.data());
-      published = rc == MPI_SUCCESS;
-      if (!published) {
-        std::cerr << "dem_app: warning: could not publish service '" << opts.service_name << "' ("
-                  << mpi_error_string(rc) << "); no ompi-server? Clients must find the port file "
-                  << (opts.port_file.empty() ? std::string("(none configured!)")
-                                             : opts.port_file.string())
-                  << std::endl;
+    try {
+      MPMDEM_CHECK_MPI(MPI_Open_port(MPI_INFO_NULL, port.data()));
+      port_open = true;
+      if (opts.publish) {
+        const int rc = MPI_Publish_name(opts.service_name.c_str(), MPI_INFO_NULL, port.data());
+        published = rc == MPI_SUCCESS;
+        if (!published) {
+          std::cerr << "dem_app: warning: could not publish service '" << opts.service_name << "' ("
+                    << mpi_error_string(rc) << "); no ompi-server? Clients must find the port file "
+                    << (opts.port_file.empty() ? std::string("(none configured!)")
+                                               : opts.port_file.string())
+                    << std::endl;
+        }
       }
+      if (!opts.port_file.empty()) write_port_file(opts.port_file, port.data());
+    } catch (const PeerError& e) {
+      failure = e.what();
     }
-    if (!opts.port_file.empty()) write_port_file(opts.port_file, port.data());
+  }
+  int ok = failure.empty() ? 1 : 0;
+  MPMDEM_CHECK_MPI(MPI_Bcast(&ok, 1, MPI_INT, 0, local));
+  if (!ok) {
+    if (c.local_rank_ == 0) {
+      if (published) MPI_Unpublish_name(opts.service_name.c_str(), MPI_INFO_NULL, port.data());
+      if (port_open) MPI_Close_port(port.data());
+      throw PeerError(failure);
+    }
+    throw PeerError("rank 0 could not open or announce the MPI port");
+  }
+  if (c.local_rank_ == 0) {
     std::cerr << "dem_app: waiting for mpm_app on service '" << opts.service_name << "'"
               << (opts.port_file.empty() ? std::string()
                                          : " (port file " + opts.port_file.string() + ")")

@@ -1,5 +1,6 @@
 #include "boundary_conditions.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 

@@ -139,3 +139,21 @@ TEST(LinearElasticProvider, AppliesTheLawPerPointAndReportsM) {
   params.poisson_ratio = 0.5;
   EXPECT_THROW(mpmdem::mpm::make_linear_elastic(params), std::invalid_argument);
 }
+
+TEST(ElasticLaw, SeriesAndSpectralPathsAgreeAtTheSwitch) {
+  // Just below and above |E| = kSeriesLimit the two evaluations of log(I + 2E)/2 and
+  // (I + 2E)^(-1/2) must agree (no jump in the stress when a step crosses the limit).
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 20; ++trial) {
+    Mat3 A;
+    for (int i = 0; i < 9; ++i) A.data()[i] = u(rng);
+    Mat3 E = 0.5 * (A + A.transpose());
+    E *= 0.999 * ElasticLaw::kSeriesLimit / E.norm();
+    Mat3 eps_s, inv_s, eps_e, inv_e;
+    ElasticLaw::series(E, eps_s, inv_s);
+    ElasticLaw::spectral(E, eps_e, inv_e);
+    EXPECT_LT((eps_s - eps_e).norm(), 1e-11 * eps_e.norm());
+    EXPECT_LT((inv_s - inv_e).norm(), 1e-13);
+  }
+}

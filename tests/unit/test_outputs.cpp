@@ -24,6 +24,7 @@
 #include "output/run_directory.hpp"
 #include "output/summary_json.hpp"
 #include "output/vtk_writer.hpp"
+#include "progress.hpp"
 #include "run_driver.hpp"
 
 namespace fs = std::filesystem;
@@ -356,6 +357,16 @@ TEST(SummaryJson, NonFiniteNumbersBecomeNull) {
   EXPECT_NE(json.find("\"period_s\": null"), std::string::npos);
   EXPECT_NE(json.find("\"period_expected_s\": 0.5"), std::string::npos);
   EXPECT_EQ(json.find("nan"), std::string::npos);
+}
+
+TEST(Progress, LineHasStepTimePercentDtEtaAndEnergyRatio) {
+  const ProgressState s{1200, 0.06, 0.5, 5e-5, 1.2e-3, 1.0};
+  EXPECT_EQ(format_progress(s, 42.0),
+            "step 1200  t=0.0600/0.5000 s (12.0%)  dt=5.0e-05 s  ETA 0:00:42  E_k/E_p0=1.2e-03");
+  const ProgressState no_gravity{10, 0.25, 1.0, 1e-4, 3.5e-2, 0.0};
+  EXPECT_EQ(format_progress(no_gravity, 3725.0),
+            "step 10  t=0.2500/1.0000 s (25.0%)  dt=1.0e-04 s  ETA 1:02:05  E_k=3.5e-02 J");
+  EXPECT_EQ(format_duration(-1.0), "?");
 }
 
 TEST(RunDirectory, RefusesAFinishedRunUnlessForced) {

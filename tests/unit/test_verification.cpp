@@ -149,6 +149,16 @@ TEST(BarVibrationVerifier, PeriodOfASampledCosineWithNoise) {
   EXPECT_NEAR((c.back() - c.front()) / 3.5, T, 1e-5);
 }
 
+TEST(BarVibrationVerifier, SmallExcursionsAcrossZeroAreNotCrossings) {
+  // +1, a dip to -0.1 and back (noise), then -1, +1: two real crossings only.
+  const std::vector<double> t{0, 1, 2, 3, 4, 5, 6, 7, 8};
+  const std::vector<double> s{1.0, 0.5, -0.1, 0.5, 1.0, -1.0, -1.0, 1.0, 1.0};
+  const std::vector<double> c = zero_crossings(t, s);
+  ASSERT_EQ(c.size(), 2u);
+  EXPECT_DOUBLE_EQ(c[0], 4.5);  // the last crossing before -1 was reached
+  EXPECT_DOUBLE_EQ(c[1], 6.5);
+}
+
 TEST(Verification, ElasticColumnMatchesTheStaticSolutionAndConservesMass) {
   const Scene scene = load_scene(source("configs/elastic_column.yaml"));
   TempDir dir("column");

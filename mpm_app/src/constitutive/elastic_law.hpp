@@ -79,7 +79,7 @@ struct ElasticLaw {
     const Eigen::Vector3d& e = eig.eigenvalues();
     Eigen::Vector3d log_stretch, inv_stretch;
     for (int a = 0; a < 3; ++a) {
-      log_stretch[a] = 0.5 * std::log1p(2.0 * e[a]);      // log of the principal stretch
+      log_stretch[a] = 0.5 * std::log1p(2.0 * e[a]);       // log of the principal stretch
       inv_stretch[a] = 1.0 / std::sqrt(1.0 + 2.0 * e[a]);  // 1 / principal stretch
     }
     d_eps = Q * log_stretch.asDiagonal() * Q.transpose();

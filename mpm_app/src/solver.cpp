@@ -118,6 +118,11 @@ Solver::Solver(const Scene& scene, Particles particles,
   }
   apply_responses();
   handle_points_outside_grid();
+  if (scene_.solver.scheme == Scheme::kUSL && scene_.solver.shape == ShapeKind::kLinear) {
+    events_.push_back(
+        "warning: solver.scheme usl with solver.shape linear is unstable when points cross "
+        "cells (nodes with tiny mass); prefer scheme musl or shape bspline2");
+  }
   E_p0_ = energies().E_p;
   dt_next_ = stable_time_step(p_, grid_.h, scene_.solver.cfl, scene_.solver.dt_max);
 }

@@ -28,6 +28,11 @@
 // only the points in the grid); the provider keeps its batch size: every point has a fixed
 // provider slot (its index at construction) and the slots of removed points receive dF = I.
 // Mass is conserved exactly: m_p never changes.
+//
+// The initial stress comes from initial_stresses(scene, particles) (Particles::sigma on
+// entry is ignored). Steps are not shortened to land on end_time: the last one may overshoot
+// it by less than dt. E_strain is computed (ElasticLaw::strain_energy_density) only when the
+// scene's model is linear_elastic; else 0.
 #pragma once
 
 #include <cstdint>

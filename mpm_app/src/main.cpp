@@ -10,9 +10,11 @@
 
 #include <CLI/CLI.hpp>
 #include <iostream>
+#include <optional>
 #include <string>
 
 #include "config/scene_loader.hpp"
+#include "mpmdem/connection.hpp"
 #include "errors.hpp"
 #include "particle_init.hpp"
 #include "run_driver.hpp"
@@ -57,17 +59,17 @@ int run(const std::string& file, const RunOptions& options) {
     return kExitConfig;
   }
   // MPI only for the remote model: the local one must run without any MPI environment.
-  const bool remote = scene.constitutive.model == ModelKind::kRemote;
-  if (remote) {
-    int provided = 0;
-    if (MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS) {
-      std::cerr << "error: MPI_Init_thread failed" << std::endl;
+  // MpiSession bounds MPI_Finalize when the peer has died.
+  std::optional<mpmdem::MpiSession> mpi;
+  if (scene.constitutive.model == ModelKind::kRemote) {
+    try {
+      mpi.emplace(nullptr, nullptr, MPI_THREAD_FUNNELED);
+    } catch (const std::exception& e) {
+      std::cerr << "error: " << e.what() << std::endl;
       return 4;
     }
   }
-  const int code = run_scene(scene, options).exit_code;
-  if (remote) MPI_Finalize();
-  return code;
+  return run_scene(scene, options).exit_code;
 }
 
 }  // namespace

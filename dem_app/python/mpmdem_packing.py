@@ -35,6 +35,7 @@ TABLE1 = {
     "unbalanced_tol": 0.01,  # stop consolidation below this unbalanced force ...
     "stress_tol": 1e-3,  # ... and this relative stress error
     "max_steps": 400000,
+    "max_strain_rate": 1.0,  # 1/s, cap of the controller's cell strain rate
     "seed": 1,
 }
 
@@ -92,7 +93,7 @@ def consolidate(y, goal, p, max_steps=None, unb_tol=None):
     tri.stressMask = 7
     tri.maxUnbalanced = 1e9  # we test convergence ourselves
     tri.relStressTol = p["stress_tol"]
-    tri.maxStrainRate = (1.0, 1.0, 1.0)
+    tri.maxStrainRate = (p["max_strain_rate"],) * 3
     max_steps = max_steps or p["max_steps"]
     unb_tol = unb_tol or p["unbalanced_tol"]
     scale = max(abs(g) for g in goal)
@@ -103,6 +104,8 @@ def consolidate(y, goal, p, max_steps=None, unb_tol=None):
         steps += 100
         s = y.utils.getStress()
         err = max(abs(s[i, i] - goal[i]) for i in range(3)) / scale
+        if err < 0.2:  # close to the goal: settle at the careful rate
+            tri.maxStrainRate = (min(p["max_strain_rate"], 1.0),) * 3
         if err < p["stress_tol"] * 10 and y.utils.unbalancedForce() < unb_tol:
             break
     return steps

@@ -33,6 +33,9 @@ class RveBackend {
                     protocol::RveReply* reply) = 0;
   virtual void checkpoint(const std::filesystem::path& dir) = 0;
   virtual void restore(const std::filesystem::path& dir) = 0;
+  // Detail of the faults (RVE ids, step) found by the last initialise()/step(), for
+  // RankReport::message; empty when every reply has status kOk or kNoContacts.
+  virtual std::string last_fault_message() const { return {}; }
 };
 
 }  // namespace mpmdem::dem

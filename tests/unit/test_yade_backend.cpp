@@ -1,0 +1,157 @@
+// YADE backend on two small in-place packings (40 spheres): exact cell deformation despite
+// YADE's one-step velGrad lag, consolidation to RveInit's stress, lost contacts, checkpoint.
+#include <gtest/gtest.h>
+
+#ifdef MPMDEM_HAVE_YADE
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <random>
+
+#include "backends/yade_backend.hpp"
+#include "coupling_schema.hpp"
+
+namespace {
+
+using namespace mpmdem;
+using protocol::RveReply;
+using protocol::RveRequest;
+using Mat = std::array<double, 9>;
+
+constexpr double kP0 = 1.0e4;  // consolidation pressure [Pa]
+
+Mat mul(const Mat& a, const Mat& b) {
+  Mat c{};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k) c[3 * i + j] += a[3 * i + k] * b[3 * k + j];
+  return c;
+}
+
+class YadeBackend : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    cfg_ = std::make_unique<config::Config>(config::Config::from_string(
+        "config_version: 1\ncoupling:\n  backend: yade\n  yade:\n    inline_spheres: 40\n"
+        "    ns_rule: fixed\n    ns: 10\n",
+        coupling_schema(), "<test>", "coupling"));
+    dem::BackendContext ctx;
+    ctx.n_rve = 2;
+    ctx.first_rve = 7;
+    ctx.run_dir = std::filesystem::temp_directory_path();
+    backend_ = dem::make_yade_backend(*cfg_, ctx);
+    backend_->setup(ctx);
+    protocol::RveInit init[2] = {};
+    for (auto& in : init) in.stress[0] = in.stress[4] = in.stress[8] = -kP0;
+    backend_->initialise(init, init_reply_);
+  }
+  static void TearDownTestSuite() { backend_.reset(); }
+
+  // One step: RVE 0 gets dF0, RVE 1 gets dF1 (or a query when dF1 is null).
+  static void step(const Mat& dF0, const Mat* dF1, RveReply* reply, std::int64_t n = 1) {
+    RveRequest req[2] = {};
+    for (int i = 0; i < 9; ++i) {
+      req[0].dF[i] = dF0[i];
+      req[1].dF[i] = dF1 ? (*dF1)[i] : 0.0;
+    }
+    req[1].flags = dF1 ? 0u : protocol::kFlagQueryOnly;
+    protocol::ControlHeader h{};
+    h.step = n;
+    backend_->step(h, req, reply);
+  }
+
+  // Cell transformation of local RVE k since its preparation, from mpmdem_rve.
+  static Mat trsf(int k) {
+    PyObject* mod = PyImport_ImportModule("mpmdem_rve");
+    PyObject* sets = PyObject_GetAttrString(mod, "_sets");
+    PyObject* t = PyObject_CallMethod(PyList_GetItem(sets, 0), "trsf", "i", k);
+    Mat m{};
+    for (int i = 0; i < 9; ++i) m[i] = PyFloat_AsDouble(PyList_GetItem(t, i));
+    Py_DECREF(t);
+    Py_DECREF(sets);
+    Py_DECREF(mod);
+    return m;
+  }
+
+  static inline std::unique_ptr<config::Config> cfg_;
+  static inline std::unique_ptr<dem::RveBackend> backend_;
+  static inline RveReply init_reply_[2];
+};
+
+const Mat kI = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+
+TEST_F(YadeBackend, InitialStateIsConsolidatedToRveInitPressure) {
+  for (const RveReply& r : init_reply_) {
+    const double p = (r.stress[0] + r.stress[4] + r.stress[8]) / 3.0;
+    EXPECT_NEAR(p, -kP0, 0.02 * kP0);  // compression is negative
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) EXPECT_EQ(r.stress[3 * i + j], r.stress[3 * j + i]);
+    EXPECT_EQ(r.status, 0);
+    EXPECT_GT(r.stiffness, 0.0);
+    // Outputs not requested (ctx.outputs == 0) are exactly zero.
+    EXPECT_EQ(r.porosity, 0.0);
+    EXPECT_EQ(r.coordination, 0.0);
+    EXPECT_EQ(r.unbalanced_force, 0.0);
+    EXPECT_EQ(r.rotation[0], 0.0);
+  }
+}
+
+TEST_F(YadeBackend, CellTransformationEqualsProductOfIncrements) {
+  std::mt19937 gen(42);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  Mat product = trsf(0);
+  RveReply reply[2];
+  for (int s = 0; s < 12; ++s) {
+    Mat dF = kI;
+    for (double& v : dF) v += 2e-4 * n01(gen);  // stretch, shear and rotation
+    const double th = 1e-3 * n01(gen);          // plus an explicit rotation about z
+    const Mat R = {std::cos(th), -std::sin(th), 0, std::sin(th), std::cos(th), 0, 0, 0, 1};
+    dF = mul(R, dF);
+    product = mul(dF, product);
+    step(dF, nullptr, reply, s);
+    EXPECT_EQ(reply[0].n_substeps, 10);
+    const Mat t = trsf(0);
+    for (int i = 0; i < 9; ++i) ASSERT_NEAR(t[i], product[i], 1e-10) << "step " << s;
+  }
+  for (int i = 0; i < 9; ++i) EXPECT_TRUE(std::isfinite(reply[0].stress[i]));
+  EXPECT_EQ(reply[1].n_substeps, 0);  // query only
+}
+
+TEST_F(YadeBackend, RestoreReproducesStressesAfterCheckpoint) {
+  const auto dir = std::filesystem::temp_directory_path() / "mpmdem_yade_ckpt_test";
+  std::filesystem::remove_all(dir);
+  const Mat dF = {1 - 1e-4, 5e-5, 0, 0, 1 - 1e-4, 0, 0, 0, 1 + 5e-5};
+  RveReply reply[2], first[2], again[2];
+  for (int s = 0; s < 3; ++s) step(dF, nullptr, reply, s);
+  backend_->checkpoint(dir);
+  EXPECT_TRUE(std::filesystem::exists(dir / "rank_0" / "rve_7.yade.bz2"));
+  for (int s = 0; s < 4; ++s) step(dF, nullptr, first, s);
+  backend_->restore(dir);
+  for (int s = 0; s < 4; ++s) step(dF, nullptr, again, s);
+  for (int k = 0; k < 2; ++k)
+    for (int i = 0; i < 9; ++i) EXPECT_NEAR(first[k].stress[i], again[k].stress[i], 1e-10);
+  std::filesystem::remove_all(dir);
+}
+
+TEST_F(YadeBackend, LostContactsGiveZeroStressAndFlagNeverNaN) {
+  const Mat expand = {1.2, 0, 0, 0, 1.2, 0, 0, 0, 1.2};
+  RveReply reply[2];
+  step(kI, &expand, reply);
+  EXPECT_EQ(reply[1].status, static_cast<int>(protocol::RveStatus::kNoContacts));
+  for (double s : reply[1].stress) EXPECT_EQ(s, 0.0);
+  EXPECT_TRUE(backend_->last_fault_message().empty());
+  step(kI, &kI, reply);  // stays finite and flagged while apart
+  EXPECT_EQ(reply[1].status, static_cast<int>(protocol::RveStatus::kNoContacts));
+}
+
+}  // namespace
+
+#else
+TEST(YadeBackend, NotBuilt) {
+  GTEST_SKIP() << "configure with -DMPMDEM_WITH_YADE=ON";
+}
+#endif

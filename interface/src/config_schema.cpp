@@ -1,5 +1,5 @@
-// Schema declaration, validation of a YAML document against it, typed access with
-// defaults, and the printed reference. See mpmdem/config/schema.hpp.
+// Schema declaration and the printed reference, plus the helpers shared by the config
+// machinery. Validation: config_validate.cpp; typed access: config_document.cpp.
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -11,9 +11,11 @@
 
 #include "mpmdem/config/schema.hpp"
 
+#include "config_detail.hpp"
+
 namespace mpmdem::config {
 
-namespace {
+namespace detail {
 
 // ---- Paths ------------------------------------------------------------------------------
 
@@ -113,221 +115,6 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
   return row[b.size()];
 }
 
-// ---- Validation -------------------------------------------------------------------------
-
-// Walks a document against the schema; the first fault throws a ConfigError.
-class Validator {
- public:
-  Validator(const Schema& schema, std::string file) : schema_(schema), file_(std::move(file)) {}
-
-  // A map whose keys are the children of schema path `parent` ("" = top level).
-  // `shown` is its path as shown in messages ("" / "solver" / "regions[0]"), `line` the line
-  // of its key (for missing-key messages).
-  void map(const YAML::Node& node, const std::string& parent, const std::string& shown, int line,
-           const std::string& only_section = "") {
-    const std::string dot_shown = shown.empty() ? "" : shown + ".";
-    std::map<std::string, int> seen;
-    for (auto it = node.begin(); it != node.end(); ++it) {
-      const YAML::Node k = it->first;  // a copy: `it->` returns a temporary proxy
-      const YAML::Node v = it->second;
-      const int key_line = line_of(k);
-      if (!k.IsScalar()) fail(key_line, shown, "has a key that is not a plain name");
-      const std::string name = k.Scalar();
-      const std::string where = dot_shown + name;
-      if (!only_section.empty() && name != only_section && name != "config_version") continue;
-      if (auto [pos, fresh] = seen.emplace(name, key_line); !fresh) {
-        fail(key_line, where,
-             "appears twice (lines " + std::to_string(pos->second) + " and " +
-                 std::to_string(key_line) + "); keep one");
-      }
-      const std::string path = parent.empty() ? name : parent + "." + name;
-      const KeySpec* spec = schema_.find(path);
-      if (!spec) unknown(key_line, parent, name, where);
-      value(*spec, v, where, key_line);
-    }
-    // Required keys and required sections of this map.
-    for (const KeySpec* c : schema_.children(parent)) {
-      const std::string name = leaf_of(c->path);
-      if (!only_section.empty() && name != only_section) continue;
-      if (c->required && !seen.count(name)) {
-        const std::string in = shown.empty()
-                                   ? "at the top level of the file"
-                                   : "in '" + shown + "' (line " + std::to_string(line) + ")";
-        const bool section = c->type == Type::kMap || c->type == Type::kList;
-        const std::string unit = c->unit.empty() || c->unit == "-" ? "" : ", " + c->unit;
-        fail(line, dot_shown + name,
-             "is required but missing " + in + ": " + c->doc +
-                 (section ? "" : " [" + type_name(c->type) + unit + "]"));
-      }
-    }
-  }
-
-  // One value of key `spec`, shown as `where`, whose key is on `line`.
-  void value(const KeySpec& spec, const YAML::Node& v, const std::string& where, int line) {
-    switch (spec.type) {
-      case Type::kMap:
-        if (v.IsNull()) {  // `section:` with nothing under it: all defaults
-          map(YAML::Node(YAML::NodeType::Map), spec.path, where, line);
-          return;
-        }
-        if (!v.IsMap()) fail(line, where, "must be a map of keys, got " + describe(v));
-        map(v, spec.path, where, line);
-        return;
-      case Type::kList: {
-        if (v.IsNull()) return;
-        if (!v.IsSequence()) fail(line, where, "must be a list of maps, got " + describe(v));
-        for (std::size_t i = 0; i < v.size(); ++i) {
-          const YAML::Node item = v[i];
-          const std::string item_where = where + "[" + std::to_string(i) + "]";
-          const int item_line = line_of(item) ? line_of(item) : line;
-          if (!item.IsMap()) {
-            fail(item_line, item_where, "must be a map of keys, got " + describe(item));
-          }
-          map(item, spec.path + "[]", item_where, item_line);
-        }
-        return;
-      }
-      case Type::kDouble:
-        range(spec, number(v, where, line), where, line);
-        return;
-      case Type::kInt: {
-        std::int64_t i = 0;
-        if (!v.IsScalar() || is_quoted(v) || !parse_int(v.Scalar(), i)) {
-          fail(line, where, "must be an integer, got " + describe(v));
-        }
-        range(spec, static_cast<double>(i), where, line);
-        return;
-      }
-      case Type::kBool:
-        if (!v.IsScalar() || is_quoted(v) || (v.Scalar() != "true" && v.Scalar() != "false")) {
-          fail(line, where, "must be true or false, got " + describe(v));
-        }
-        return;
-      case Type::kString:
-        if (!v.IsScalar()) fail(line, where, "must be a string, got " + describe(v));
-        return;
-      case Type::kEnum:
-        if (!v.IsScalar() ||
-            std::find(spec.choices.begin(), spec.choices.end(), v.Scalar()) == spec.choices.end()) {
-          fail(line, where, "must be one of " + join(spec.choices, ", ") + "; got " + describe(v));
-        }
-        return;
-      case Type::kVec3: {
-        if (!v.IsSequence() || v.size() != 3) {
-          fail(line, where, "must be a list of 3 numbers [x, y, z], got " + describe(v));
-        }
-        std::vector<double> xyz;
-        for (std::size_t i = 0; i < 3; ++i) {
-          xyz.push_back(number(v[i], where + "[" + std::to_string(i) + "]", line));
-        }
-        for (double c : xyz) {
-          if (!in_range(spec, c)) {
-            fail(line, where, "components must be " + range_text(spec) + ", got " + vec_text(xyz));
-          }
-        }
-        return;
-      }
-      case Type::kStringList: {
-        if (v.IsNull()) return;  // empty list
-        if (!v.IsSequence()) fail(line, where, "must be a list [a, b, ...], got " + describe(v));
-        std::vector<std::string> seen;
-        for (std::size_t i = 0; i < v.size(); ++i) {
-          const std::string item_where = where + "[" + std::to_string(i) + "]";
-          const YAML::Node item = v[i];
-          if (!item.IsScalar()) fail(line, item_where, "must be a string, got " + describe(item));
-          if (!spec.choices.empty() && std::find(spec.choices.begin(), spec.choices.end(),
-                                                 item.Scalar()) == spec.choices.end()) {
-            fail(line, item_where,
-                 "must be one of " + join(spec.choices, ", ") + "; got " + describe(item));
-          }
-          if (std::find(seen.begin(), seen.end(), item.Scalar()) != seen.end()) {
-            fail(line, item_where, "repeats '" + item.Scalar() + "'");
-          }
-          seen.push_back(item.Scalar());
-        }
-        return;
-      }
-    }
-  }
-
- private:
-  [[noreturn]] void fail(int line, const std::string& where, const std::string& what) const {
-    throw ConfigError(file_, line, where, (where.empty() ? "" : where + " ") + what);
-  }
-
-  [[noreturn]] void unknown(int line, const std::string& parent, const std::string& name,
-                            const std::string& where) const {
-    std::string hint;
-    std::size_t best = std::string::npos;
-    std::vector<std::string> names;
-    for (const KeySpec* c : schema_.children(parent)) {
-      const std::string cand = leaf_of(c->path);
-      names.push_back(cand);
-      const std::size_t d = edit_distance(name, cand);
-      if (d < best && d <= std::max<std::size_t>(2, cand.size() / 3)) {
-        best = d;
-        hint = cand;
-      }
-    }
-    std::string what = "unknown key '" + where + "'";
-    if (!hint.empty()) {
-      what += " (did you mean '" + hint + "'?)";
-    } else if (!names.empty()) {
-      what += " (known keys here: " + join(names, ", ") + ")";
-    }
-    throw ConfigError(file_, line, where, what);
-  }
-
-  double number(const YAML::Node& v, const std::string& where, int line) const {
-    double d = 0.0;
-    if (!v.IsScalar() || is_quoted(v) || !parse_double(v.Scalar(), d) || !std::isfinite(d)) {
-      fail(line, where, "must be a number, got " + describe(v));
-    }
-    return d;
-  }
-
-  void range(const KeySpec& spec, double v, const std::string& where, int line) const {
-    if (!in_range(spec, v)) {
-      fail(line, where, "must be " + range_text(spec) + ", got " + format_number(v));
-    }
-  }
-
-  const Schema& schema_;
-  std::string file_;
-};
-
-// The version gate, before anything else: a file of another format version would produce
-// confusing unknown-key messages.
-void check_version(const YAML::Node& root, const std::string& file) {
-  const YAML::Node v = root["config_version"];
-  if (!v.IsDefined() || v.IsNull()) {
-    throw ConfigError(file, line_of(root), "config_version",
-                      "config_version is missing: every config file starts with "
-                      "'config_version: " +
-                          std::to_string(kConfigVersion) + "'");
-  }
-  int line = line_of(v);
-  for (auto it = root.begin(); it != root.end(); ++it) {
-    if (it->first.IsScalar() && it->first.Scalar() == "config_version") line = line_of(it->first);
-  }
-  std::int64_t n = 0;
-  if (!v.IsScalar() || is_quoted(v) || !parse_int(v.Scalar(), n)) {
-    throw ConfigError(file, line, "config_version",
-                      "config_version must be an integer, got " + describe(v));
-  }
-  if (n > kConfigVersion) {
-    throw ConfigError(file, line, "config_version",
-                      "config_version " + std::to_string(n) + " is newer than this build reads (" +
-                          std::to_string(kConfigVersion) + "): upgrade mpmdem");
-  }
-  if (n < kConfigVersion) {
-    throw ConfigError(file, line, "config_version",
-                      "config_version " + std::to_string(n) + " is older than this build reads (" +
-                          std::to_string(kConfigVersion) + "), and there is no older format: " +
-                          "version 1 is the first; write 'config_version: 1'");
-  }
-}
-
 std::string cell(std::string s) {
   std::string out;
   for (char c : s) {
@@ -339,7 +126,9 @@ std::string cell(std::string s) {
   return out;
 }
 
-}  // namespace
+}  // namespace detail
+
+using namespace detail;
 
 // ---- Free helpers -----------------------------------------------------------------------
 
@@ -435,7 +224,7 @@ Schema& Schema::add(KeySpec spec) {
   }
   if (!spec.default_yaml.empty()) {  // a schema whose defaults are invalid is a bug
     try {
-      Validator(*this, "schema default").value(spec, YAML::Load(spec.default_yaml), path, 0);
+      validate_value(*this, spec, YAML::Load(spec.default_yaml), path);
     } catch (const std::exception& e) {
       throw std::logic_error("schema: default of '" + path + "' is invalid: " + e.what());
     }
@@ -499,184 +288,6 @@ std::string Schema::reference() const {
     walk(k->type == Type::kList ? k->path + "[]" : k->path);
   }
   return os.str();
-}
-
-// ---- Config -----------------------------------------------------------------------------
-
-Config::Config(YAML::Node root, const Schema* schema, std::string file, std::string prefix,
-               std::string display)
-    : root_(std::move(root)),
-      schema_(schema),
-      file_(std::move(file)),
-      prefix_(std::move(prefix)),
-      display_(std::move(display)) {}
-
-Config Config::load(const std::string& file, const Schema& schema, const std::string& section) {
-  std::ifstream in(file);
-  if (!in) throw ConfigError(file, 0, "", "cannot open config file '" + file + "'");
-  std::stringstream text;
-  text << in.rdbuf();
-  return from_string(text.str(), schema, file, section);
-}
-
-Config Config::from_string(const std::string& yaml_text, const Schema& schema,
-                           const std::string& file_label, const std::string& section) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(yaml_text);
-  } catch (const YAML::Exception& e) {
-    throw ConfigError(file_label, e.mark.is_null() ? 0 : e.mark.line + 1, "",
-                      "malformed YAML: " + e.msg);
-  }
-  if (!root.IsDefined() || root.IsNull()) {
-    throw ConfigError(file_label, 0, "",
-                      "the file is empty: it must start with 'config_version: " +
-                          std::to_string(kConfigVersion) + "'");
-  }
-  if (!root.IsMap()) {
-    throw ConfigError(
-        file_label, line_of(root), "",
-        "the top level must be a map of sections (key: value), got " + describe(root));
-  }
-  check_version(root, file_label);
-  if (!section.empty()) {
-    const KeySpec* s = schema.find(section);
-    if (!s || parent_of(section) != "") {
-      throw std::logic_error("Config::load: section '" + section + "' is not in the schema");
-    }
-  }
-  Validator(schema, file_label).map(root, "", "", line_of(root), section);
-  return Config(root, &schema, file_label, "", "");
-}
-
-YAML::Node Config::lookup(const std::string& path) const {
-  YAML::Node cur = root_;
-  for (const std::string& part : split_path(path)) {
-    if (!cur.IsMap()) return YAML::Node(YAML::NodeType::Undefined);
-    const YAML::Node& c = cur;
-    YAML::Node next = c[part];
-    if (!next.IsDefined()) return next;
-    cur.reset(next);
-  }
-  return cur;
-}
-
-const KeySpec& Config::spec(const std::string& path) const {
-  const KeySpec* s = schema_->find(prefix_ + path);
-  if (!s) throw std::logic_error("config: '" + prefix_ + path + "' is not declared in the schema");
-  return *s;
-}
-
-YAML::Node Config::value_or_default(const std::string& path) const {
-  const KeySpec& s = spec(path);
-  YAML::Node v = lookup(path);
-  if (v.IsDefined() && !v.IsNull()) return v;
-  if (s.default_yaml.empty()) {
-    throw std::logic_error("config: '" + shown(path) +
-                           "' has no value and no default; check has() first");
-  }
-  return YAML::Load(s.default_yaml);
-}
-
-bool Config::has(const std::string& path) const {
-  spec(path);
-  const YAML::Node v = lookup(path);
-  return v.IsDefined() && !v.IsNull();
-}
-
-double Config::number(const std::string& path) const {
-  const KeySpec& s = spec(path);
-  if (s.type != Type::kDouble && s.type != Type::kInt) {
-    throw std::logic_error("config: '" + s.path + "' is not a number");
-  }
-  double d = 0.0;
-  parse_double(value_or_default(path).Scalar(), d);
-  return d;
-}
-
-std::int64_t Config::integer(const std::string& path) const {
-  const KeySpec& s = spec(path);
-  if (s.type != Type::kInt) throw std::logic_error("config: '" + s.path + "' is not an integer");
-  std::int64_t i = 0;
-  parse_int(value_or_default(path).Scalar(), i);
-  return i;
-}
-
-bool Config::boolean(const std::string& path) const {
-  const KeySpec& s = spec(path);
-  if (s.type != Type::kBool) throw std::logic_error("config: '" + s.path + "' is not a bool");
-  return value_or_default(path).Scalar() == "true";
-}
-
-std::string Config::string(const std::string& path) const {
-  const KeySpec& s = spec(path);
-  if (s.type != Type::kString && s.type != Type::kEnum) {
-    throw std::logic_error("config: '" + s.path + "' is not a string");
-  }
-  return value_or_default(path).Scalar();
-}
-
-std::array<double, 3> Config::vec3(const std::string& path) const {
-  const KeySpec& s = spec(path);
-  if (s.type != Type::kVec3) throw std::logic_error("config: '" + s.path + "' is not a vec3");
-  const YAML::Node v = value_or_default(path);
-  std::array<double, 3> out{};
-  for (std::size_t i = 0; i < 3; ++i) parse_double(v[i].Scalar(), out[i]);
-  return out;
-}
-
-std::vector<std::string> Config::strings(const std::string& path) const {
-  const KeySpec& s = spec(path);
-  if (s.type != Type::kStringList) {
-    throw std::logic_error("config: '" + s.path + "' is not a string list");
-  }
-  std::vector<std::string> out;
-  const YAML::Node v = value_or_default(path);
-  for (std::size_t i = 0; i < v.size(); ++i) out.push_back(v[i].Scalar());
-  return out;
-}
-
-std::vector<Config> Config::list(const std::string& path) const {
-  const KeySpec& s = spec(path);
-  if (s.type != Type::kList) throw std::logic_error("config: '" + s.path + "' is not a list");
-  std::vector<Config> out;
-  const YAML::Node v = lookup(path);
-  if (!v.IsDefined() || !v.IsSequence()) return out;
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    out.push_back(Config(v[i], schema_, file_, prefix_ + path + "[].",
-                         display_ + path + "[" + std::to_string(i) + "]."));
-  }
-  return out;
-}
-
-int Config::line(const std::string& path) const {
-  int best = line_of(root_);
-  if (path.empty()) return best;
-  YAML::Node cur = root_;
-  for (const std::string& part : split_path(path)) {
-    if (!cur.IsMap()) break;
-    bool found = false;
-    for (auto it = cur.begin(); it != cur.end(); ++it) {
-      if (it->first.IsScalar() && it->first.Scalar() == part) {
-        best = line_of(it->first);
-        cur.reset(it->second);
-        found = true;
-        break;
-      }
-    }
-    if (!found) break;
-  }
-  return best;
-}
-
-std::string Config::shown(const std::string& path) const {
-  if (path.empty()) return display_.empty() ? "" : display_.substr(0, display_.size() - 1);
-  return display_ + path;
-}
-
-void Config::fail(const std::string& path, const std::string& what) const {
-  const std::string where = shown(path);
-  throw ConfigError(file_, line(path), where, (where.empty() ? "" : where + " ") + what);
 }
 
 }  // namespace mpmdem::config

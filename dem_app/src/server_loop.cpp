@@ -1,6 +1,7 @@
 // The RVE server loop: see server_loop.hpp.
 #include "server_loop.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
@@ -203,6 +204,14 @@ int serve(const ServerOptions& opts, const BackendMaker& make_backend) {
           backend->checkpoint(dir);
         }
         summarise(replies, ctx.first_rve, report);
+        if (report.status != 0 && kind != MessageKind::kCheckpoint) {
+          const std::string why = backend->last_fault_message();
+          if (!why.empty()) {
+            std::memset(report.message, 0, sizeof report.message);
+            std::memcpy(report.message, why.data(),
+                        std::min(why.size(), sizeof report.message - 1));
+          }
+        }
       } catch (const std::exception& e) {
         fail_all(replies);
         set_error(report, std::string(backend->name()) + " backend: " + e.what());

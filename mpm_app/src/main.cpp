@@ -14,8 +14,8 @@
 #include <string>
 
 #include "config/scene_loader.hpp"
-#include "mpmdem/connection.hpp"
 #include "errors.hpp"
+#include "mpmdem/connection.hpp"
 #include "particle_init.hpp"
 #include "run_driver.hpp"
 

@@ -26,9 +26,9 @@ struct RegionParams {
   std::string name;
   Vec3 min = Vec3::Zero();
   Vec3 max = Vec3::Ones();
-  int points_per_cell = 2;                     // per direction
-  double density = 2000.0;                     // [kg/m^3]
-  Vec3 velocity = Vec3::Zero();                // initial velocity [m/s]
+  int points_per_cell = 2;       // per direction
+  double density = 2000.0;       // [kg/m^3]
+  Vec3 velocity = Vec3::Zero();  // initial velocity [m/s]
   // Optional first-mode velocity profile v(x) = amplitude * sin(pi/2 * (x_a - x0)/L)
   // along `axis`, used by the vibrating-bar scene (fixed at x0, free at x0 + L).
   bool sine_velocity = false;
@@ -55,7 +55,7 @@ struct VelocityConstraintParams {
   Vec3 min = Vec3::Zero();
   Vec3 max = Vec3::Zero();
   std::array<bool, 3> components{{false, false, false}};  // which components are held
-  Vec3 value = Vec3::Zero();                               // held value [m/s]
+  Vec3 value = Vec3::Zero();                              // held value [m/s]
   // Release: at a time, or when E_k / E_p0 falls below a ratio after min_time, or never.
   std::optional<double> release_time;
   std::optional<double> release_kinetic_ratio;
@@ -69,14 +69,14 @@ enum class OnExit { kError, kRemove };
 struct SolverParams {
   Scheme scheme = Scheme::kMUSL;
   ShapeKind shape = ShapeKind::kLinear;
-  double flip = 0.99;          // FLIP fraction of the PIC/FLIP blend (1 = pure FLIP)
-  double cfl = 0.5;            // Courant number
-  double dt_max = 1e-3;        // cap on the automatic step [s]
-  double end_time = 1.0;       // [s]
+  double flip = 0.99;     // FLIP fraction of the PIC/FLIP blend (1 = pure FLIP)
+  double cfl = 0.5;       // Courant number
+  double dt_max = 1e-3;   // cap on the automatic step [s]
+  double end_time = 1.0;  // [s]
   Vec3 gravity{0.0, 0.0, -9.81};
   double local_damping = 0.0;  // Cundall non-viscous damping coefficient on grid forces
   OnExit on_exit = OnExit::kError;
-  int threads = 0;             // 0: OpenMP default
+  int threads = 0;  // 0: OpenMP default
 };
 
 enum class ModelKind { kLinearElastic, kRemote };
@@ -89,15 +89,16 @@ struct ConstitutiveParams {
 // The shared section both programs read (hashed in the handshake).
 struct CouplingParams {
   std::string backend = "elastic";
-  std::uint32_t outputs = 0;       // protocol::OutputBits
+  std::uint32_t outputs = 0;  // protocol::OutputBits
   std::string service_name = "mpmdem";
   double connect_timeout_s = 60.0;
-  std::string canonical_text;      // canonical form of the whole section
-  std::uint64_t hash = 0;          // fnv1a64(canonical_text)
+  std::string port_file = "dem_port.txt";  // relative to the run directory
+  std::string canonical_text;              // canonical form of the whole section
+  std::uint64_t hash = 0;                  // fnv1a64(canonical_text)
 };
 
 struct OutputParams {
-  double interval = 0.0;     // simulated time between VTK frames [s]; 0: first and last only
+  double interval = 0.0;         // simulated time between VTK frames [s]; 0: first and last only
   double energy_interval = 0.0;  // between energy CSV rows [s]; 0: every step
   bool vtk = true;
   bool hdf5 = true;

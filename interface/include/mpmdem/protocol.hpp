@@ -62,28 +62,28 @@ enum class RveStatus : std::int32_t {
 
 // Sent by the client at the start of every exchange (MPI_Bcast over the intercommunicator).
 struct ControlHeader {
-  std::int32_t kind;     // MessageKind
+  std::int32_t kind;  // MessageKind
   std::int32_t reserved;
-  std::int64_t step;     // MPM step number (0 for Hello/Initialise)
-  double time;           // simulated time at the end of this step [s]
-  double dt;             // MPM time increment of this step [s]
-  char path[224];        // kCheckpoint: directory to write into (NUL-terminated); else empty
+  std::int64_t step;  // MPM step number (0 for Hello/Initialise)
+  double time;        // simulated time at the end of this step [s]
+  double dt;          // MPM time increment of this step [s]
+  char path[224];     // kCheckpoint: directory to write into (NUL-terminated); else empty
 };
 
 // Exchanged in both directions right after connect.
 struct Hello {
-  std::uint32_t magic;           // kMagic
-  std::uint16_t version_major;   // kVersionMajor of the sender
-  std::uint16_t version_minor;   // kVersionMinor of the sender
-  std::uint32_t request_size;    // sizeof(RveRequest) of the sender
-  std::uint32_t reply_size;      // sizeof(RveReply) of the sender
-  std::uint64_t n_rve;           // number of RVEs (= material points) the run couples
-  std::int32_t n_partitions;     // client: remote group size it sees; server: its rank count
-  std::uint32_t outputs;         // OutputBits the scene asks for
-  std::uint64_t config_hash;     // FNV-1a 64 of the canonical `coupling:` section
-  char program[16];              // "mpm_app", "dem_app", "element_test", ...
-  char program_version[32];      // e.g. "0.1.0"
-  char backend[32];              // server: backend name; client: backend the scene names
+  std::uint32_t magic;          // kMagic
+  std::uint16_t version_major;  // kVersionMajor of the sender
+  std::uint16_t version_minor;  // kVersionMinor of the sender
+  std::uint32_t request_size;   // sizeof(RveRequest) of the sender
+  std::uint32_t reply_size;     // sizeof(RveReply) of the sender
+  std::uint64_t n_rve;          // number of RVEs (= material points) the run couples
+  std::int32_t n_partitions;    // client: remote group size it sees; server: its rank count
+  std::uint32_t outputs;        // OutputBits the scene asks for
+  std::uint64_t config_hash;    // FNV-1a 64 of the canonical `coupling:` section
+  char program[16];             // "mpm_app", "dem_app", "element_test", ...
+  char program_version[32];     // e.g. "0.1.0"
+  char backend[32];             // server: backend name; client: backend the scene names
 };
 
 // Initial state of one RVE (MessageKind::kInitialise): the stress it must start from.
@@ -116,11 +116,11 @@ struct RveReply {
 // One per server rank after every exchange (MPI_Gather): errors and timing.
 struct RankReport {
   std::int32_t rank;
-  std::int32_t status;   // 0 ok; otherwise the worst RveStatus on this rank
-  std::int32_t n_faults; // RVEs with a non-zero status
+  std::int32_t status;           // 0 ok; otherwise the worst RveStatus on this rank
+  std::int32_t n_faults;         // RVEs with a non-zero status
   std::int32_t first_fault_rve;  // global id of the first faulty RVE, -1 if none
-  double compute_s;      // wall time spent in the backend for this exchange
-  char message[232];     // NUL-terminated human-readable detail when status != 0
+  double compute_s;              // wall time spent in the backend for this exchange
+  char message[232];             // NUL-terminated human-readable detail when status != 0
 };
 
 static_assert(sizeof(ControlHeader) == 256, "ControlHeader layout changed: bump kVersionMajor");
@@ -129,7 +129,8 @@ static_assert(sizeof(RveInit) == 72, "RveInit layout changed: bump kVersionMajor
 static_assert(sizeof(RveRequest) == 88, "RveRequest layout changed: bump kVersionMajor");
 static_assert(sizeof(RveReply) == 136, "RveReply layout changed: bump kVersionMajor");
 static_assert(sizeof(RankReport) == 256, "RankReport layout changed: bump kVersionMajor");
-static_assert(std::is_trivially_copyable_v<ControlHeader> && std::is_standard_layout_v<ControlHeader>);
+static_assert(std::is_trivially_copyable_v<ControlHeader> &&
+              std::is_standard_layout_v<ControlHeader>);
 static_assert(std::is_trivially_copyable_v<Hello> && std::is_standard_layout_v<Hello>);
 static_assert(std::is_trivially_copyable_v<RveInit> && std::is_standard_layout_v<RveInit>);
 static_assert(std::is_trivially_copyable_v<RveRequest> && std::is_standard_layout_v<RveRequest>);

@@ -218,6 +218,7 @@ CouplingParams load_coupling(const Config& cfg) {
   c.outputs = coupling_output_bits(cfg);
   c.service_name = cfg.string("coupling.service_name");
   c.connect_timeout_s = cfg.number("coupling.connect_timeout_s");
+  c.port_file = cfg.string("coupling.port_file");
   c.canonical_text = coupling_canonical_text(cfg);
   c.hash = fnv1a64(c.canonical_text);
   return c;

@@ -35,7 +35,10 @@ class ConstitutiveProvider {
   virtual void update(const std::vector<Mat3>& dF, double dt, std::int64_t step, double time,
                       std::vector<PointResponse>& out) = 0;
   // Ask the provider to save its state under dir (remote: the servers do it).
-  virtual void checkpoint(const std::string& dir, std::int64_t step) { (void)dir; (void)step; }
+  virtual void checkpoint(const std::string& dir, std::int64_t step) {
+    (void)dir;
+    (void)step;
+  }
   // Orderly end (remote: shutdown message).
   virtual void finish() {}
 };

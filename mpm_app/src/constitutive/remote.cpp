@@ -7,8 +7,6 @@
 #include <filesystem>
 #include <iostream>
 
-#include "coupling_schema.hpp"
-
 #include "mpmdem/exchange.hpp"
 
 namespace mpmdem::mpm {
@@ -17,25 +15,12 @@ namespace {
 
 using RowMajor3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
 
-// coupling.port_file (relative to the run directory). Scene::coupling does not carry it
-// yet, so read it from the scene's own coupling section (already validated).
-std::string port_file_name(const Scene& scene) {
-  const std::string fallback = "dem_port.txt";
-  if (scene.source_file.empty()) return fallback;
-  try {
-    const auto cfg = config::Config::load(scene.source_file, coupling_schema(), "coupling");
-    return cfg.string("coupling.port_file");
-  } catch (const std::exception&) {
-    return fallback;
-  }
-}
-
 class RemoteProvider : public ConstitutiveProvider {
  public:
   RemoteProvider(const Scene& scene, std::size_t n_points, const std::string& run_dir) {
     ConnectOptions opts;
     opts.service_name = scene.coupling.service_name;
-    opts.port_file = std::filesystem::path(run_dir) / port_file_name(scene);
+    opts.port_file = std::filesystem::path(run_dir) / scene.coupling.port_file;
     opts.timeout_s = scene.coupling.connect_timeout_s;
     opts.config_file = scene.source_file;
     HelloFields hello;

@@ -12,8 +12,7 @@ namespace mpmdem::mpm {
 // Connects (MPI must be initialised), performs the handshake for n_points RVEs, and
 // returns the provider. Throws on connect timeout or handshake mismatch with a message
 // naming both values.
-std::unique_ptr<ConstitutiveProvider> make_remote_provider(const Scene& scene,
-                                                           std::size_t n_points,
+std::unique_ptr<ConstitutiveProvider> make_remote_provider(const Scene& scene, std::size_t n_points,
                                                            const std::string& run_dir);
 
 }  // namespace mpmdem::mpm

@@ -1,0 +1,16 @@
+# docs/config_reference.md is generated from the schema: fail when it is out of date.
+add_test(NAME docs_config_reference_current
+  COMMAND sh -c "\"$1\" --print-config-reference > config_reference.tmp && tail -n +6 \"$2\" | diff -u - config_reference.tmp"
+          sh $<TARGET_FILE:mpm_app> ${PROJECT_SOURCE_DIR}/docs/config_reference.md
+  WORKING_DIRECTORY ${PROJECT_BINARY_DIR})
+set_tests_properties(docs_config_reference_current PROPERTIES LABELS unit)
+
+# Every C++ file follows the checked-in .clang-format.
+find_program(CLANG_FORMAT clang-format)
+if(CLANG_FORMAT)
+  add_test(NAME clang_format_clean
+    COMMAND sh -c "find interface mpm_app dem_app tests -name '*.cpp' -o -name '*.hpp' | xargs \"$1\" --dry-run -Werror"
+            sh ${CLANG_FORMAT}
+    WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+  set_tests_properties(clang_format_clean PROPERTIES LABELS unit)
+endif()

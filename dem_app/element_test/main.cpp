@@ -7,21 +7,24 @@
 // Every RVE starts from the isotropic stress -P (RveInit), then gets N equal increments:
 //   isotropic     dF = s I,                        s = (1 - S)^(1/N)
 //   oedometric    dF = diag(1, 1, s)               (uniaxial strain along z)
-//   triaxial      dF = diag(1 + e_x, 1 + e_y, s)   e_x, e_y by mixed control: each step
-//                 e_i = (-P - sigma_ii) / M, M the stiffness estimate of the last reply, so
-//                 the lateral stresses are held at -P (drained triaxial compression)
+//   triaxial      dF = diag(exp e_x, exp e_y, s)   e_x, e_y by mixed control (velocity form):
+//                 e_i(n) = e_i(n-1) + g (-P - sigma_ii(n) - dsigma_ii(n)) / M, dsigma_ii(n) the
+//                 last step's change, M the reply's stiffness estimate (if 0: the secant
+//                 |dsigma_zz / d eps_zz| of the last step); the lateral stresses are held at
+//                 -P (drained triaxial compression); gain g = kGain
 //   simple_shear  dF = I + (S/N) e_x e_z
 // The CSV has one row per step and RVE: step, rve, Hencky strain eps_ij of the accumulated
 // F (log V), Cauchy stress sigma_ij (tension positive), p = -tr(sigma)/3, q = sqrt(3/2 s:s),
 // the mobilised friction angle asin((s1 - s3)/(s1 + s3)) of the compressive principal
-// stresses [deg], status. The summary printed at the end uses the RVE-mean stress.
-// Exit codes: 0 done (statuses may still be non-zero: see the summary), 2 bad command
-// line/scene, 3 handshake refused, 4 peer/MPI error.
+// stresses [deg], the reply's stiffness estimate, status. The summary printed at the end uses the
+// RVE-mean stress. Exit codes: 0 done (statuses may still be non-zero: see the summary), 2 bad
+// command line/scene, 3 handshake refused, 4 peer/MPI error.
 #include <mpi.h>
 
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -45,6 +48,10 @@ namespace {
 using RowMajor3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
 using Mat3 = Eigen::Matrix3d;
 constexpr double kPi = 3.14159265358979323846;
+// Gain of the triaxial mixed control. With the true lateral stiffness K = g M (both lateral
+// axes move together: g = 1 + nu/(1 - nu) for an elastic solid) the error decays by
+// sqrt(1 - kGain g) per step while kGain g < 1; kGain g = 4/3 (gain 1, nu = 1/4) oscillates.
+constexpr double kGain = 0.5;
 
 struct Options {
   std::string scene, run_dir, test, out;
@@ -120,7 +127,7 @@ struct Invariants {
 Invariants invariants(const Mat3& sigma_in) {
   const Mat3 sigma = 0.5 * (sigma_in + sigma_in.transpose());
   Invariants r{};
-  r.p = -sigma.trace() / 3.0;
+  r.p = 0.0 - sigma.trace() / 3.0;  // no "-0" for a stress-free RVE
   const Mat3 s = sigma + r.p * Mat3::Identity();
   r.q = std::sqrt(1.5 * s.cwiseProduct(s).sum());
   const Eigen::Vector3d ev = Eigen::SelfAdjointEigenSolver<Mat3>(sigma).eigenvalues();
@@ -168,7 +175,7 @@ int run(const Options& o) {
       csv << ",eps_" << c;
     for (const char* c : {"xx", "xy", "xz", "yx", "yy", "yz", "zx", "zy", "zz"})
       csv << ",sigma_" << c;
-    csv << ",p,q,phi_deg,status\n";
+    csv << ",p,q,phi_deg,stiffness,status\n";
     csv << std::setprecision(17);
   }
   std::vector<Mat3> F(K, Mat3::Identity());
@@ -187,7 +194,8 @@ int run(const Options& o) {
         for (int j = 0; j < 3; ++j) csv << ',' << eps(i, j);
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) csv << ',' << sigma(i, j);
-      csv << ',' << inv.p << ',' << inv.q << ',' << inv.phi_deg << ',' << replies[k].status << '\n';
+      csv << ',' << inv.p << ',' << inv.q << ',' << inv.phi_deg << ',' << replies[k].stiffness
+          << ',' << replies[k].status << '\n';
     }
     return mean;
   };
@@ -199,6 +207,9 @@ int run(const Options& o) {
   double phi_peak = 0.0, phi_final = 0.0;
   Mat3 mean = Mat3::Zero();
   std::vector<mpmdem::protocol::RveRequest> req(K);
+  // Triaxial control state per RVE: last lateral strain increments and stress changes.
+  std::vector<std::array<double, 2>> e_lat(K, {0.0, 0.0}), ds_lat(K, {0.0, 0.0});
+  std::vector<double> ds_axial(K, 0.0);
   for (int n = 1; n <= o.steps; ++n) {
     for (std::size_t k = 0; k < K; ++k) {
       Mat3 dF = Mat3::Identity();
@@ -208,11 +219,20 @@ int run(const Options& o) {
         dF(2, 2) = stretch;
       } else if (o.test == "triaxial") {
         dF(2, 2) = stretch;
-        const double M = replies[k].stiffness > 0.0 ? replies[k].stiffness : 0.0;
-        for (int i = 0; i < 2 && M > 0.0; ++i) {
-          const double e = (-o.pressure - replies[k].stress[4 * i]) / M;
-          dF(i, i) = 1.0 + std::clamp(e, -0.5 * std::abs(1.0 - stretch) - 1e-12,
-                                      std::abs(1.0 - stretch) + 1e-12);
+        // Velocity-form mixed control: the next lateral stress is predicted as the current
+        // one plus the last step's change plus M times the change of lateral strain rate.
+        const double de_z = std::log(stretch);
+        double M = replies[k].stiffness;
+        if (!(M > 0.0) && n > 1) M = std::abs(ds_axial[k] / de_z);  // secant fallback
+        for (int i = 0; i < 2; ++i) {
+          double e = 0.0;
+          if (M > 0.0) {
+            const double s_now = replies[k].stress[4 * i];
+            e = e_lat[k][i] + kGain * (-o.pressure - s_now - ds_lat[k][i]) / M;
+            e = std::clamp(e, -2.0 * std::abs(de_z), 2.0 * std::abs(de_z));
+          }
+          e_lat[k][i] = e;
+          dF(i, i) = std::exp(e);
         }
       } else {  // simple_shear
         dF(0, 2) = o.strain / o.steps;
@@ -226,7 +246,12 @@ int run(const Options& o) {
     h.step = n;
     h.dt = o.dt;
     h.time = o.dt * n;
+    std::vector<mpmdem::protocol::RveReply> before = replies;
     client.step(h, req, replies);
+    for (std::size_t k = 0; k < K; ++k) {
+      for (int i = 0; i < 2; ++i) ds_lat[k][i] = replies[k].stress[4 * i] - before[k].stress[4 * i];
+      ds_axial[k] = replies[k].stress[8] - before[k].stress[8];
+    }
     mean = record(n);
     const Invariants inv = invariants(mean);
     phi_peak = std::max(phi_peak, inv.phi_deg);

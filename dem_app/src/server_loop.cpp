@@ -102,13 +102,13 @@ class IdleWatchdog {
       const auto deadline = since_ + limit;
       if (cv_.wait_until(lock, deadline) == std::cv_status::timeout && armed_ && !stop_ &&
           std::chrono::steady_clock::now() >= since_ + limit) {
-        if (root_) {
-          std::fprintf(stderr,
-                       "dem_app: error: no message from mpm_app for %g s (--idle-timeout); "
-                       "assuming it died, exiting\n",
-                       seconds_);
-          std::fflush(stderr);
-        }
+        // Every rank says why it ends: mpirun may tear the job down before the root's
+        // message is forwarded when a non-root rank's watchdog fires first.
+        std::fprintf(stderr,
+                     "dem_app: error: no message from mpm_app for %g s (--idle-timeout)%s; "
+                     "assuming it died, exiting\n",
+                     seconds_, root_ ? "" : " (non-root rank, after a 5 s grace)");
+        std::fflush(stderr);
         std::_Exit(kExitPeerError);
       }
     }

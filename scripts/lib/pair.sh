@@ -24,8 +24,12 @@ PAIR_FINAL_HOOK=""  # function run after an interrupt's cleanup (e.g. print the 
 # ranks on few cores are not pinned to one core; idle ranks yield the CPU instead of
 # spinning (measured on 2 cores, dem_app on 2 ranks + mpm_app: 30 ms per exchange without
 # it, 3 ms with it).
+# Both jobs run on this machine: keep Open MPI's TCP traffic (and its interface probing) on
+# the loopback interface. Set MPMDEM_MPI_IF to another interface list for multi-host runs.
 pair_mpirun_args() {
+  local ifs=${MPMDEM_MPI_IF:-lo}
   local args=(--oversubscribe --bind-to none --mca mpi_yield_when_idle 1
+    --mca btl_tcp_if_include "$ifs" --mca oob_tcp_if_include "$ifs"
     --ompi-server "file:$PAIR_URI")
   if [[ $(id -u) -eq 0 ]]; then args+=(--allow-run-as-root); fi
   if [[ -n "${OMP_NUM_THREADS:-}" ]]; then args+=(-x OMP_NUM_THREADS); fi
@@ -101,7 +105,7 @@ pair_start_ompi_server() {
   local dir=$1
   PAIR_URI="$dir/ompi-server.uri"
   rm -f "$PAIR_URI"
-  setsid ompi-server --no-daemonize -r "$PAIR_URI" </dev/null >"$dir/ompi-server.log" 2>&1 &
+  setsid ompi-server --no-daemonize --mca oob_tcp_if_include "${MPMDEM_MPI_IF:-lo}" -r "$PAIR_URI" </dev/null >"$dir/ompi-server.log" 2>&1 &
   PAIR_PIDS+=($!)
   local i
   for i in $(seq 1 100); do

@@ -1,8 +1,10 @@
 // element_test: the MPM-side stand-in. Drives K RVEs of a real dem_app (any backend) along a
 // prescribed path through the real protocol and writes the stress-strain response.
 //
-//   element_test --scene FILE --run-dir DIR --test isotropic|oedometric|triaxial|simple_shear
+//   element_test --scene FILE --run-dir DIR
+//                --test isotropic|oedometric|triaxial|constant_volume|simple_shear|df_file
 //                --rves K --strain S --steps N [--pressure P] [--dt DT] [--out CSV]
+//                [--df-file FILE]
 //
 // Every RVE starts from the isotropic stress -P (RveInit), then gets N equal increments:
 //   isotropic     dF = s I,                        s = (1 - S)^(1/N)
@@ -12,17 +14,25 @@
 //                 last step's change, M the reply's stiffness estimate (if 0: the secant
 //                 |dsigma_zz / d eps_zz| of the last step); the lateral stresses are held at
 //                 -P (drained triaxial compression); gain g = kGain
-//   simple_shear  dF = I + (S/N) e_x e_z
+//   constant_volume  dF = diag(s^-1/2, s^-1/2, s): constant-volume (undrained) triaxial
+//                 compression, det dF = 1 (to round-off)
+//   simple_shear  dF = I + (S/N) e_x e_z: simple shear at constant volume (height and
+//                 lateral sides held, det dF = 1 exactly), shear strain gamma = n S/N
+//   df_file       dF of step n = row n of --df-file (9 numbers per line, row-major; blank
+//                 lines and lines starting with # skipped), the same for every RVE; --steps
+//                 must not exceed the rows; --strain is ignored
 // The CSV has one row per step and RVE: step, rve, Hencky strain eps_ij of the accumulated
 // F (log V), Cauchy stress sigma_ij (tension positive), p = -tr(sigma)/3, q = sqrt(3/2 s:s),
 // the mobilised friction angle asin((s1 - s3)/(s1 + s3)) of the compressive principal
-// stresses [deg], the reply's stiffness estimate, status. The summary printed at the end uses the
+// stresses [deg], the reply's stiffness estimate, porosity and coordination (0 unless the
+// scene's coupling.outputs asks for them), status. The summary printed at the end uses the
 // RVE-mean stress. Exit codes: 0 done (statuses may still be non-zero: see the summary), 2 bad
 // command line/scene, 3 handshake refused, 4 peer/MPI error.
 #include <mpi.h>
 
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -34,6 +44,7 @@
 #include <iomanip>
 #include <iostream>
 #include <limits>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -54,7 +65,7 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kGain = 0.5;
 
 struct Options {
-  std::string scene, run_dir, test, out;
+  std::string scene, run_dir, test, out, df_file;
   std::size_t rves = 1;
   double strain = 0.0, pressure = 1.0e4, dt = 1.0e-3;
   int steps = 0;
@@ -63,8 +74,9 @@ struct Options {
 [[noreturn]] void usage_error(const std::string& what) {
   throw std::invalid_argument(what +
                               "\nusage: element_test --scene FILE --run-dir DIR --test "
-                              "isotropic|oedometric|triaxial|simple_shear --rves K --strain S "
-                              "--steps N [--pressure P] [--dt DT] [--out CSV]");
+                              "isotropic|oedometric|triaxial|constant_volume|simple_shear|df_file "
+                              "--rves K --strain S --steps N [--pressure P] [--dt DT] [--out CSV] "
+                              "[--df-file FILE]");
 }
 
 double to_number(const std::string& key, const std::string& v) {
@@ -88,6 +100,8 @@ Options parse(int argc, char** argv) {
       o.test = v;
     } else if (k == "--out") {
       o.out = v;
+    } else if (k == "--df-file") {
+      o.df_file = v;
     } else if (k == "--rves") {
       o.rves = static_cast<std::size_t>(to_number(k, v));
     } else if (k == "--strain") {
@@ -104,11 +118,14 @@ Options parse(int argc, char** argv) {
   }
   if (o.scene.empty() || o.run_dir.empty()) usage_error("--scene and --run-dir are required");
   if (o.test != "isotropic" && o.test != "oedometric" && o.test != "triaxial" &&
-      o.test != "simple_shear")
+      o.test != "constant_volume" && o.test != "simple_shear" && o.test != "df_file")
     usage_error("--test: unknown test '" + o.test + "'");
+  if ((o.test == "df_file") != !o.df_file.empty())
+    usage_error("--df-file goes with --test df_file (and only with it)");
   if (o.rves < 1) usage_error("--rves must be >= 1");
   if (o.steps < 1) usage_error("--steps must be >= 1");
-  if (o.test != "simple_shear" && !(o.strain < 1.0)) usage_error("--strain must be < 1");
+  if (o.test != "simple_shear" && o.test != "df_file" && !(o.strain < 1.0))
+    usage_error("--strain must be < 1");
   if (!(o.dt > 0.0)) usage_error("--dt must be > 0");
   return o;
 }
@@ -118,6 +135,33 @@ Mat3 hencky(const Mat3& F) {
   Eigen::SelfAdjointEigenSolver<Mat3> es(F * F.transpose());
   const Eigen::Vector3d l = es.eigenvalues().array().log() * 0.5;
   return es.eigenvectors() * l.asDiagonal() * es.eigenvectors().transpose();
+}
+
+// Rows of a dF file: 9 numbers (row-major) per non-blank line not starting with '#'.
+std::vector<Mat3> read_df_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) usage_error("--df-file: cannot read " + path);
+  std::vector<Mat3> rows;
+  std::string line;
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    const auto first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#') continue;
+    std::istringstream ls(line);
+    RowMajor3 m;
+    for (int i = 0; i < 9; ++i) {
+      if (!(ls >> m(i / 3, i % 3)) || !std::isfinite(m(i / 3, i % 3)))
+        usage_error(path + ":" + std::to_string(line_no) +
+                    ": expected 9 finite numbers (dF row-major)");
+    }
+    std::string rest;
+    if (ls >> rest) usage_error(path + ":" + std::to_string(line_no) + ": more than 9 numbers");
+    if (!(m.determinant() > 0.0))
+      usage_error(path + ":" + std::to_string(line_no) + ": det dF must be > 0");
+    rows.push_back(m);
+  }
+  return rows;
 }
 
 struct Invariants {
@@ -152,6 +196,13 @@ int run(const Options& o) {
   hello.outputs = mpmdem::coupling_output_bits(cfg);
   hello.config_hash = mpmdem::fnv1a64(mpmdem::coupling_canonical_text(cfg));
 
+  std::vector<Mat3> df_rows;
+  if (o.test == "df_file") {
+    df_rows = read_df_file(o.df_file);
+    if (df_rows.size() < static_cast<std::size_t>(o.steps))
+      usage_error("--df-file " + o.df_file + " has " + std::to_string(df_rows.size()) +
+                  " rows, fewer than --steps " + std::to_string(o.steps));
+  }
   mpmdem::RveClient client;
   client.connect(opts, hello);
   std::cout << "element_test: " << o.test << " on " << o.rves << " RVE(s), "
@@ -175,7 +226,7 @@ int run(const Options& o) {
       csv << ",eps_" << c;
     for (const char* c : {"xx", "xy", "xz", "yx", "yy", "yz", "zx", "zy", "zz"})
       csv << ",sigma_" << c;
-    csv << ",p,q,phi_deg,stiffness,status\n";
+    csv << ",p,q,phi_deg,stiffness,porosity,coordination,status\n";
     csv << std::setprecision(17);
   }
   std::vector<Mat3> F(K, Mat3::Identity());
@@ -195,7 +246,8 @@ int run(const Options& o) {
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) csv << ',' << sigma(i, j);
       csv << ',' << inv.p << ',' << inv.q << ',' << inv.phi_deg << ',' << replies[k].stiffness
-          << ',' << replies[k].status << '\n';
+          << ',' << replies[k].porosity << ',' << replies[k].coordination << ','
+          << replies[k].status << '\n';
     }
     return mean;
   };
@@ -234,8 +286,13 @@ int run(const Options& o) {
           e_lat[k][i] = e;
           dF(i, i) = std::exp(e);
         }
-      } else {  // simple_shear
+      } else if (o.test == "constant_volume") {
+        dF(2, 2) = stretch;
+        dF(0, 0) = dF(1, 1) = 1.0 / std::sqrt(stretch);
+      } else if (o.test == "simple_shear") {
         dF(0, 2) = o.strain / o.steps;
+      } else {  // df_file
+        dF = df_rows[static_cast<std::size_t>(n - 1)];
       }
       std::memset(&req[k], 0, sizeof req[k]);
       Eigen::Map<RowMajor3>(req[k].dF) = dF;

@@ -10,8 +10,14 @@ using config::Type;
 void add_yade_keys(config::Schema& s) {
   s.add(key("coupling.yade", Type::kMap, "", "settings of the YADE backend (backend: yade)"));
   s.add(key("coupling.yade.packing_dir", Type::kString, "",
-            "packing library folder written by scripts/build_packings (empty: build small "
-            "packings in place from coupling.yade.inline_spheres, for tests)")
+            "packing library folder written by scripts/build_packings, relative to the scene "
+            "file's folder unless absolute (empty: build small packings in place from "
+            "coupling.yade.inline_spheres, for tests)")
+            .def("\"\""));
+  s.add(key("coupling.yade.packing_spec", Type::kString, "",
+            "packing spec (a scripts/build_packings --config file, relative to the scene "
+            "file's folder) from which scripts/run builds packing_dir's packings when they are "
+            "missing; empty: none (the library must exist)")
             .def("\"\""));
   s.add(key("coupling.yade.packings", Type::kStringList, "",
             "packing names in packing_dir (<name>.yade.bz2); one: every RVE uses it; several: "

@@ -10,6 +10,7 @@
 #include <cstring>
 #include <iostream>
 #include <sstream>
+#include <thread>
 
 #include "mpmdem/errors.hpp"
 
@@ -22,6 +23,26 @@ using protocol::RveInit;
 using protocol::RveReply;
 using protocol::RveRequest;
 using protocol::RveStatus;
+
+namespace {
+
+// Waits for a non-blocking MPI operation without spinning: Open MPI's blocking calls poll a
+// core at 100% (mpi_yield_when_idle only yields it), which on a small machine takes a core
+// from the DEM ranks while mpm_app waits for their replies (and from mpm_app while the
+// servers wait for the next step). Sleeps grow from 20 us to 1 ms: the added latency is
+// under 1 ms per exchange, against DEM work of tens of ms.
+void wait_politely(MPI_Request& request) {
+  int done = 0;
+  std::chrono::microseconds pause(20);
+  for (;;) {
+    MPMDEM_CHECK_MPI(MPI_Test(&request, &done, MPI_STATUS_IGNORE));
+    if (done) return;
+    std::this_thread::sleep_for(pause);
+    pause = std::min(pause * 2, std::chrono::microseconds(1000));
+  }
+}
+
+}  // namespace
 
 bool is_fatal(std::int32_t s) {
   return s != static_cast<std::int32_t>(RveStatus::kOk) &&
@@ -127,7 +148,9 @@ void RveClient::send_header(const ControlHeader& header) {
   ControlHeader h = header;
   const int root_arg = root() ? MPI_ROOT : MPI_PROC_NULL;
   try {
-    MPMDEM_CHECK_MPI(MPI_Bcast(&h, sizeof h, MPI_BYTE, root_arg, conn_.intercomm()));
+    MPI_Request request = MPI_REQUEST_NULL;
+    MPMDEM_CHECK_MPI(MPI_Ibcast(&h, sizeof h, MPI_BYTE, root_arg, conn_.intercomm(), &request));
+    wait_politely(request);
   } catch (...) {
     broken_ = true;
     throw;
@@ -154,8 +177,11 @@ void RveClient::gather(std::vector<RveReply>& replies) {
   replies.resize(n_rve_);
   const int root_arg = root() ? MPI_ROOT : MPI_PROC_NULL;
   try {
-    MPMDEM_CHECK_MPI(MPI_Gatherv(nullptr, 0, types_.reply, replies.data(), counts_.data(),
-                                 displs_.data(), types_.reply, root_arg, conn_.intercomm()));
+    MPI_Request request = MPI_REQUEST_NULL;
+    MPMDEM_CHECK_MPI(MPI_Igatherv(nullptr, 0, types_.reply, replies.data(), counts_.data(),
+                                  displs_.data(), types_.reply, root_arg, conn_.intercomm(),
+                                  &request));
+    wait_politely(request);
   } catch (...) {
     broken_ = true;
     throw;
@@ -291,7 +317,9 @@ void RveServerChannel::accept(const ConnectOptions& opts, HelloFields hello) {
 
 bool RveServerChannel::next(ControlHeader& header) {
   std::memset(&header, 0, sizeof header);
-  MPMDEM_CHECK_MPI(MPI_Bcast(&header, sizeof header, MPI_BYTE, 0, conn_.intercomm()));
+  MPI_Request request = MPI_REQUEST_NULL;
+  MPMDEM_CHECK_MPI(MPI_Ibcast(&header, sizeof header, MPI_BYTE, 0, conn_.intercomm(), &request));
+  wait_politely(request);
   header.path[sizeof header.path - 1] = '\0';
   switch (static_cast<MessageKind>(header.kind)) {
     case MessageKind::kInitialise:
@@ -326,8 +354,11 @@ void RveServerChannel::receive(std::vector<RveRequest>& requests) {
 
 void RveServerChannel::send(const std::vector<RveReply>& replies, const RankReport& report) {
   assert(replies.size() == mine_.count);
-  MPMDEM_CHECK_MPI(MPI_Gatherv(replies.data(), static_cast<int>(mine_.count), types_.reply, nullptr,
-                               nullptr, nullptr, types_.reply, 0, conn_.intercomm()));
+  MPI_Request request = MPI_REQUEST_NULL;
+  MPMDEM_CHECK_MPI(MPI_Igatherv(replies.data(), static_cast<int>(mine_.count), types_.reply,
+                                nullptr, nullptr, nullptr, types_.reply, 0, conn_.intercomm(),
+                                &request));
+  wait_politely(request);
   send_report(report);
 }
 

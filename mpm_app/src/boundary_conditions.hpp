@@ -41,6 +41,7 @@ class BoundaryConditions {
 
   std::size_t constraint_count() const { return constraints_.size(); }
   bool constraint_active(std::size_t c) const { return constraints_[c].active; }
+  void set_active(std::size_t c, bool active) { constraints_.at(c).active = active; }
   const std::vector<std::size_t>& constraint_nodes(std::size_t c) const {
     return constraints_[c].nodes;
   }

@@ -1,7 +1,7 @@
 // Energies of the material points (validation notes): E_p = sum m g z, i.e.
 // E_p = -sum_p m_p g . x_p for any gravity vector; E_k = sum_p 1/2 m_p |v_p|^2;
-// E_strain = sum_p strain_energy_p where the model defines it (linear_elastic), else 0.
-// The dissipated energy is E_d = E_p0 - E_p - E_k.
+// E_strain = sum_p strain_energy_p where the model defines it (local models: elastic energy of the
+// stress), else 0. The dissipated energy is E_d = E_p0 - E_p - E_k.
 #pragma once
 
 #include "particles.hpp"

@@ -1,8 +1,9 @@
 // mpm_app: the MPM side of mpmdem.
 //   mpm_app SCENE.yaml [--out DIR] [--threads T] [--force]   run a scene
+//   mpm_app SCENE.yaml --out RUN --resume CHECKPOINT|latest   continue a checkpointed run
 //   mpm_app --check-config FILE                            validate a scene, count points
 //   mpm_app --print-config-reference                       every key: type, default, unit
-//   mpm_app --print-model FILE                             linear_elastic | remote
+//   mpm_app --print-model FILE                 linear_elastic | drucker_prager | remote
 //   mpm_app --version
 // Exit codes: 0 ok, 2 config/usage/output-directory error, 3 handshake refused, 4 failed,
 // 130 interrupted (see run_driver.hpp).
@@ -41,7 +42,9 @@ int check_config(const std::string& file) {
 int print_model(const std::string& file) {
   try {
     const Scene scene = load_scene(file);
-    std::cout << (scene.constitutive.model == ModelKind::kRemote ? "remote" : "linear_elastic")
+    std::cout << (scene.constitutive.model == ModelKind::kRemote          ? "remote"
+                  : scene.constitutive.model == ModelKind::kDruckerPrager ? "drucker_prager"
+                                                                          : "linear_elastic")
               << std::endl;
     return 0;
   } catch (const std::exception& e) {
@@ -51,6 +54,10 @@ int print_model(const std::string& file) {
 }
 
 int run(const std::string& file, const RunOptions& options) {
+  if (!options.resume.empty() && options.out_dir.empty()) {
+    std::cerr << "error: --resume needs --out RUN (the run directory to continue)" << std::endl;
+    return kExitConfig;
+  }
   Scene scene;
   try {
     scene = load_scene(file);
@@ -85,11 +92,16 @@ int main(int argc, char** argv) {
   app.add_option("--threads", options.threads, "OpenMP threads (default: solver.threads)")
       ->check(CLI::Range(1, 1024));
   app.add_flag("--force", options.force, "overwrite a run directory that holds an earlier run");
+  app.add_option("--resume", options.resume,
+                 "continue the run in --out from a checkpoint directory (RUN/checkpoints/"
+                 "step_<n>) or 'latest' (the newest complete one)");
   app.add_option("--check-config", check_file, "validate a scene file and exit");
   app.add_flag("--print-config-reference", print_reference,
                "print every config key (type, default, unit, range, doc) and exit");
-  app.add_option("--print-model", model_file,
-                 "print the constitutive model of a scene (linear_elastic or remote) and exit");
+  app.add_option(
+      "--print-model", model_file,
+      "print the constitutive model of a scene (linear_elastic, drucker_prager or remote) "
+      "and exit");
   app.add_flag("--version", version, "print the version and exit");
   try {
     app.parse(argc, argv);

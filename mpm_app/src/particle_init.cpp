@@ -1,6 +1,7 @@
 #include "particle_init.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 
@@ -33,27 +34,28 @@ Particles generate_particles(const Scene& scene) {
   Particles p;
   for (std::size_t r = 0; r < scene.regions.size(); ++r) {
     const RegionParams& reg = scene.regions[r];
-    const int n = reg.points_per_cell;
-    if (n < 1) {
+    const std::array<int, 3> n{{reg.points_along(0), reg.points_along(1), reg.points_along(2)}};
+    if (*std::min_element(n.begin(), n.end()) < 1) {
       throw SceneError("regions[" + std::to_string(r) + "] '" + reg.name +
-                       "': points_per_cell must be >= 1, got " + std::to_string(n));
+                       "': points per cell must be >= 1 along every axis");
     }
-    const double spacing = h / n;
-    const double volume = spacing * spacing * spacing;
+    const Vec3 spacing(h / n[0], h / n[1], h / n[2]);
+    const double volume = spacing.prod();
     const double mass = reg.density * volume;
     // Candidate lattice range: the region's bounding box, clipped to the grid.
     int lo[3], hi[3];
     for (int d = 0; d < 3; ++d) {
-      const double a = std::floor((reg.min[d] - grid.origin[d]) / spacing) - 1.0;
-      const double b = std::ceil((reg.max[d] - grid.origin[d]) / spacing) + 1.0;
+      const double a = std::floor((reg.min[d] - grid.origin[d]) / spacing[d]) - 1.0;
+      const double b = std::ceil((reg.max[d] - grid.origin[d]) / spacing[d]) + 1.0;
       lo[d] = static_cast<int>(std::max(0.0, std::min(a, 1e9)));
-      hi[d] = static_cast<int>(std::min(static_cast<double>(grid.cells[d] * n), std::max(b, 0.0)));
+      hi[d] = static_cast<int>(std::min(
+          static_cast<double>(grid.cells[d] * n[static_cast<std::size_t>(d)]), std::max(b, 0.0)));
     }
     std::size_t count = 0;
     for (int k = lo[2]; k < hi[2]; ++k) {
       for (int j = lo[1]; j < hi[1]; ++j) {
         for (int i = lo[0]; i < hi[0]; ++i) {
-          const Vec3 x = grid.origin + spacing * Vec3(i + 0.5, j + 0.5, k + 0.5);
+          const Vec3 x = grid.origin + spacing.cwiseProduct(Vec3(i + 0.5, j + 0.5, k + 0.5));
           if (!inside(reg, x)) continue;
           bool earlier = false;  // already taken by an earlier region
           for (std::size_t q = 0; q < r && !earlier; ++q) earlier = inside(scene.regions[q], x);
@@ -74,9 +76,9 @@ Particles generate_particles(const Scene& scene) {
       std::ostringstream msg;
       msg << "regions[" << r << "] '" << reg.name << "' (min [" << reg.min.transpose() << "], max ["
           << reg.max.transpose()
-          << "]) contains no material point: points sit at the centres of the " << n
-          << "^3 sub-cells of each grid cell (cell_size " << h << " m, grid from ["
-          << grid.origin.transpose() << "] to [" << grid.upper().transpose()
+          << "]) contains no material point: points sit at the centres of the " << n[0] << "x"
+          << n[1] << "x" << n[2] << " sub-cells of each grid cell (cell_size " << h
+          << " m, grid from [" << grid.origin.transpose() << "] to [" << grid.upper().transpose()
           << "]); enlarge the region, move it inside the grid, or raise points_per_cell";
       throw SceneError(msg.str());
     }

@@ -2,21 +2,26 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <csignal>
 #include <ctime>
+#include <filesystem>
 #include <iostream>
 #include <limits>
 #include <memory>
 #include <optional>
 #include <sstream>
 
+#include "analysis/column_collapse.hpp"
+#include "constitutive/drucker_prager.hpp"
 #include "constitutive/linear_elastic.hpp"
 #include "constitutive/remote.hpp"
 #include "errors.hpp"
 #include "mpmdem/config/schema.hpp"
 #include "mpmdem/errors.hpp"
+#include "output/checkpoint.hpp"
 #include "output/energy_log.hpp"
 #include "output/hdf5_writer.hpp"
 #include "output/run_directory.hpp"
@@ -68,7 +73,15 @@ class SignalGuard {
 };
 
 const char* model_name(ModelKind kind) {
-  return kind == ModelKind::kRemote ? "remote" : "linear_elastic";
+  switch (kind) {
+    case ModelKind::kRemote:
+      return "remote";
+    case ModelKind::kDruckerPrager:
+      return "drucker_prager";
+    case ModelKind::kLinearElastic:
+      break;
+  }
+  return "linear_elastic";
 }
 
 const char* verification_name(VerificationKind kind) {
@@ -172,7 +185,8 @@ class Run {
  private:
   RunSummary& s() { return result_.summary; }
   double wall_time() const {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start_).count();
+    return wall_before_ +
+           std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start_).count();
   }
 
   // Particles, provider and solver. Whatever can reject the scene is done before the run
@@ -187,14 +201,17 @@ class Run {
     sum.end_time_s = scene_.solver.end_time;
     sum.threads = omp_get_max_threads();
     sum.verification_kind = verification_name(scene_.verification.kind);
+    if (!opt_.resume.empty()) return set_up_resumed();
     try {
       check_run_directory(dir_, opt_.force);
       Particles particles = generate_particles(scene_);
       const std::size_t n = particles.size();
       sum.n_material_points = n;
-      if (opt_.provider_factory || scene_.constitutive.model == ModelKind::kLinearElastic) {
+      if (opt_.provider_factory || scene_.constitutive.model != ModelKind::kRemote) {
         auto provider = opt_.provider_factory ? opt_.provider_factory(scene_, n)
-                                              : make_linear_elastic(scene_.constitutive);
+                        : scene_.constitutive.model == ModelKind::kDruckerPrager
+                            ? make_drucker_prager(scene_.constitutive)
+                            : make_linear_elastic(scene_.constitutive);
         solver_ = std::make_unique<Solver>(scene_, std::move(particles), std::move(provider));
         create_directory();
       } else {
@@ -213,6 +230,7 @@ class Run {
     } catch (const std::exception& e) {
       return setup_failed(std::string("setting up the run failed: ") + e.what(), kExitPeerError);
     }
+    if (scene_.column_collapse.enabled) column_.emplace(scene_);
     sum.model = solver_->provider().name();
     sum.mass_initial_kg = total_mass(solver_->particles());
     sum.dt_min_s = std::numeric_limits<double>::infinity();
@@ -223,6 +241,88 @@ class Run {
          << ", " << sum.threads << " thread(s), end time " << scene_.solver.end_time
          << " s\n  results: " << dir_ << std::endl;
     return true;
+  }
+
+  std::unique_ptr<ConstitutiveProvider> local_provider(std::size_t n) {
+    if (opt_.provider_factory) return opt_.provider_factory(scene_, n);
+    if (scene_.constitutive.model == ModelKind::kDruckerPrager)
+      return make_drucker_prager(scene_.constitutive);
+    return make_linear_elastic(scene_.constitutive);
+  }
+
+  // Continue from a checkpoint in the existing run directory (outputs after it are redone).
+  bool set_up_resumed() {
+    RunSummary& sum = s();
+    try {
+      if (!std::filesystem::is_directory(dir_)) {
+        throw RunDirectoryError("--resume: run directory '" + dir_ + "' does not exist");
+      }
+      resume_dir_ = opt_.resume == "latest" ? latest_checkpoint(dir_) : opt_.resume;
+      if (resume_dir_.empty()) {
+        throw RunDirectoryError("--resume latest: '" + dir_ +
+                                "' holds no complete checkpoint (checkpoints/step_*/COMPLETE); "
+                                "set output.checkpoint_interval_steps to write them");
+      }
+      SolverState state;
+      read_mpm_checkpoint(resume_dir_, state, resumed_);
+      dir_created_ = true;
+      result_.run_dir = dir_;
+      sum.run_directory = dir_;
+      const std::size_t n = state.n_slots;
+      auto provider = (opt_.provider_factory || scene_.constitutive.model != ModelKind::kRemote)
+                          ? local_provider(n)
+                          : make_remote_provider(scene_, n, dir_);
+      solver_ = std::make_unique<Solver>(scene_, std::move(state), std::move(provider));
+    } catch (const RunDirectoryError& e) {
+      return setup_failed(e.what(), kExitConfigError);
+    } catch (const HandshakeError& e) {
+      return setup_failed(e.what(), kExitHandshakeError);
+    } catch (const std::exception& e) {
+      return setup_failed(std::string("resuming the run failed: ") + e.what(), kExitPeerError);
+    }
+    if (scene_.column_collapse.enabled) {
+      column_.emplace(scene_);
+      column_->restore(resumed_.release_time, resumed_.E_p0_release, resumed_.snapshots_done);
+    }
+    sum.model = solver_->provider().name();
+    sum.mass_initial_kg = resumed_.mass_initial_kg;
+    sum.step_wall_time_s = resumed_.step_wall_time_s;
+    sum.step_cpu_time_s = resumed_.step_cpu_time_s;
+    sum.dt_min_s = resumed_.dt_min_s;
+    sum.dt_max_s = resumed_.dt_max_s;
+    wall_before_ = resumed_.wall_time_s;
+    sum.status = "complete";
+    out_ << "mpm_app " << MPMDEM_VERSION << ": scene '" << scene_.name << "' resumed from "
+         << resume_dir_ << " (step " << solver_->step_count() << ", t=" << solver_->time()
+         << " s)\n  results: " << dir_ << std::endl;
+    return true;
+  }
+
+  // Both sides save their state; the checkpoint counts once both are done (COMPLETE).
+  void write_checkpoint() {
+    const std::string dir = checkpoint_directory(dir_, solver_->step_count());
+    DriverState d;
+    d.next_frame = next_frame_;
+    d.next_energy = next_energy_;
+    if (vtk_) d.frame_times = vtk_->frame_times();
+    d.last_frame_step = last_frame_step_;
+    d.last_energy_step = last_energy_step_;
+    if (column_) {
+      d.release_time = column_->release_time();
+      d.E_p0_release = column_->E_p0_release();
+      d.snapshots_done = column_->snapshots_done();
+    }
+    d.step_wall_time_s = s().step_wall_time_s;
+    d.step_cpu_time_s = s().step_cpu_time_s;
+    d.wall_time_s = wall_time();
+    d.dt_min_s = s().dt_min_s;
+    d.dt_max_s = s().dt_max_s;
+    d.mass_initial_kg = s().mass_initial_kg;
+    write_mpm_checkpoint(dir, solver_->state(), d);
+    solver_->provider().checkpoint(dir + "/dem", solver_->step_count());
+    commit_checkpoint(dir_, dir, scene_.output.checkpoints_kept);
+    out_ << "[step " << solver_->step_count() << ", t=" << solver_->time() << " s] checkpoint "
+         << dir << std::endl;
   }
 
   void create_directory() {
@@ -246,10 +346,24 @@ class Run {
 
   // Step until the end time or a stop request; energies, frames and progress on the way.
   void time_loop() {
-    energy_.emplace(dir_ + "/energies.csv");
-    log_energy(0.0);
-    if (scene_.output.vtk) vtk_.emplace(dir_);
-    write_frame();
+    const bool resumed = !resume_dir_.empty();
+    const double frame_interval = scene_.output.interval;
+    const double energy_interval = scene_.output.energy_interval;
+    if (resumed) {
+      energy_.emplace(dir_ + "/energies.csv", solver_->step_count());
+      if (scene_.output.vtk) vtk_.emplace(dir_, resumed_.frame_times);
+      last_frame_step_ = resumed_.last_frame_step;
+      last_energy_step_ = resumed_.last_energy_step;
+      next_frame_ = resumed_.next_frame;
+      next_energy_ = resumed_.next_energy;
+    } else {
+      energy_.emplace(dir_ + "/energies.csv");
+      log_energy(0.0);
+      if (scene_.output.vtk) vtk_.emplace(dir_);
+      write_frame();
+      next_frame_ = frame_interval > 0.0 ? frame_interval : std::numeric_limits<double>::infinity();
+      next_energy_ = energy_interval > 0.0 ? energy_interval : 0.0;
+    }
     if (scene_.verification.kind == VerificationKind::kBarVibration) {
       try {
         bar_.emplace(scene_);
@@ -259,16 +373,13 @@ class Run {
       }
     }
     print_events();
+    observe_column();
+    const std::int64_t every = scene_.output.checkpoint_interval_steps;
 
-    const double frame_interval = scene_.output.interval;
-    const double energy_interval = scene_.output.energy_interval;
-    double next_frame =
-        frame_interval > 0.0 ? frame_interval : std::numeric_limits<double>::infinity();
-    double next_energy = energy_interval > 0.0 ? energy_interval : 0.0;
     Progress progress(out_, scene_.output.progress_interval_s);
     progress.start(solver_->time());
 
-    while (!solver_->finished()) {
+    while (!solver_->finished() && !(column_ && column_->done(solver_->time()))) {
       if (g_stop) {
         s().status = "interrupted";
         out_ << "stop requested: stopping after step " << solver_->step_count() << std::endl;
@@ -280,17 +391,51 @@ class Run {
       log_time_step();
       print_events();
       if (bar_) bar_->record(t, solver_->particles());
-      if (t >= next_energy - tol) {
+      if (t >= next_energy_ - tol) {
         log_energy(last_dt_);
-        while (energy_interval > 0.0 && next_energy <= t + tol) next_energy += energy_interval;
+        while (energy_interval > 0.0 && next_energy_ <= t + tol) next_energy_ += energy_interval;
       }
-      if (t >= next_frame - tol) {
+      if (t >= next_frame_ - tol) {
         write_frame();
-        while (next_frame <= t + tol) next_frame += frame_interval;
+        while (next_frame_ <= t + tol) next_frame_ += frame_interval;
       }
+      observe_column();
+      if (every > 0 && solver_->step_count() % every == 0) write_checkpoint();
       if (progress.due()) progress.update(progress_state());
     }
     progress.print(progress_state());
+  }
+
+  // Column collapse: the start of stage 2 and the snapshots at t_r + k t*.
+  void observe_column() {
+    if (!column_) return;
+    const double t = solver_->time();
+    if (column_->observe(t, solver_->boundary_conditions(), solver_->particles())) {
+      out_ << "[step " << solver_->step_count() << ", t=" << t
+           << " s] stage 2 (collapse) starts: stage 1 took " << t
+           << " s; t* = " << column_->geometry().t_star << " s, the run ends at t = "
+           << t + scene_.column_collapse.duration_t_star * column_->geometry().t_star << " s"
+           << std::endl;
+    }
+    for (const std::string& label : column_->due_snapshots(t, 1e-6 * last_dt_)) {
+      require_finite();
+      std::filesystem::create_directories(dir_ + "/snapshots");
+      write_final_state(dir_ + "/snapshots/" + label + ".h5", solver_->particles(),
+                        {t, solver_->step_count(), scene_.name, scene_.source_file});
+      if (last_frame_step_ != solver_->step_count()) write_frame();
+      out_ << "[step " << solver_->step_count() << ", t=" << t << " s] snapshot " << label
+           << " (t/t* = " << column_->time_over_t_star(t) << ")" << std::endl;
+    }
+  }
+
+  // Simulated time at which the run will end (as far as known now).
+  double expected_end_time() const {
+    double end = scene_.solver.end_time;
+    if (column_ && column_->release_time()) {
+      end = std::min(end, *column_->release_time() +
+                              scene_.column_collapse.duration_t_star * column_->geometry().t_star);
+    }
+    return end;
   }
 
   void timed_step() {
@@ -350,7 +495,7 @@ class Run {
 
   ProgressState progress_state() const {
     return {solver_->step_count(),   solver_->time(),
-            scene_.solver.end_time,  last_dt_,
+            expected_end_time(),     last_dt_,
             solver_->energies().E_k, solver_->initial_potential_energy()};
   }
 
@@ -435,6 +580,14 @@ class Run {
     sum.E_p0_J = solver_->initial_potential_energy();
     sum.E_p_J = e.E_p;
     sum.E_k_J = e.E_k;
+    sum.analysis.clear();
+    if (column_) sum.analysis = column_->figures(solver_->time(), p);
+    if (scene_.constitutive.model == ModelKind::kRemote) {
+      sum.analysis.emplace_back("rve_no_contact_updates",
+                                static_cast<double>(solver_->no_contact_updates()));
+      sum.analysis.emplace_back("rve_no_contact_points_final",
+                                static_cast<double>(solver_->no_contact_points()));
+    }
     if (opt_.final_particles) *opt_.final_particles = p;
     sum.wall_time_s = wall_time();
     if (!write_summary_file() && result_.exit_code == 0) result_.exit_code = kExitPeerError;
@@ -466,6 +619,12 @@ class Run {
   std::optional<EnergyLog> energy_;
   std::optional<VtkSeries> vtk_;
   std::optional<BarVibrationMonitor> bar_;
+  std::optional<ColumnCollapseMonitor> column_;
+  std::string resume_dir_;  // checkpoint this run continues from ("" for a fresh run)
+  DriverState resumed_;
+  double wall_before_ = 0.0;  // wall time of the run before its last resume
+  double next_frame_ = 0.0;
+  double next_energy_ = 0.0;
   double last_dt_ = 0.0;
   double dt_logged_ = 0.0;
   std::int64_t last_energy_step_ = -1;

@@ -26,9 +26,12 @@
 namespace mpmdem::mpm {
 
 struct RunOptions {
-  std::string out_dir;                   // empty: runs/<scene>-<UTC timestamp>
-  int threads = 0;                       // > 0: overrides solver.threads
-  bool force = false;                    // reuse a directory that holds an earlier run
+  std::string out_dir;  // empty: runs/<scene>-<UTC timestamp>
+  int threads = 0;      // > 0: overrides solver.threads
+  bool force = false;   // reuse a directory that holds an earlier run
+  // Continue the run in out_dir from this checkpoint (checkpoints/step_<n>; "latest": the
+  // newest complete one). The DEM servers must have been started with --restore <it>/dem.
+  std::string resume;
   bool handle_signals = true;            // install SIGINT/SIGTERM handlers for the run
   std::ostream* out = nullptr;           // progress and events (nullptr: std::cout)
   std::ostream* err = nullptr;           // errors (nullptr: std::cerr)

@@ -26,7 +26,12 @@ struct RegionParams {
   std::string name;
   Vec3 min = Vec3::Zero();
   Vec3 max = Vec3::Ones();
-  int points_per_cell = 2;       // per direction
+  int points_per_cell = 2;                   // per direction, unless points_xyz overrides it
+  std::array<int, 3> points_xyz{{0, 0, 0}};  // per cell along x, y, z; 0: points_per_cell
+  int points_along(int axis) const {
+    const int n = points_xyz[static_cast<std::size_t>(axis)];
+    return n > 0 ? n : points_per_cell;
+  }
   double density = 2000.0;       // [kg/m^3]
   Vec3 velocity = Vec3::Zero();  // initial velocity [m/s]
   // Optional first-mode velocity profile v(x) = amplitude * sin(pi/2 * (x_a - x0)/L)
@@ -79,11 +84,18 @@ struct SolverParams {
   int threads = 0;  // 0: OpenMP default
 };
 
-enum class ModelKind { kLinearElastic, kRemote };
+enum class ModelKind { kLinearElastic, kDruckerPrager, kRemote };
+// How the Drucker-Prager cone is fitted to Mohr-Coulomb (constitutive/drucker_prager.hpp).
+enum class ConeMatching { kCompression, kPlaneStrain };
 struct ConstitutiveParams {
   ModelKind model = ModelKind::kLinearElastic;
-  double youngs_modulus = 1e7;  // linear_elastic [Pa]
-  double poisson_ratio = 0.3;   // linear_elastic [-]
+  double youngs_modulus = 1e7;  // linear_elastic and drucker_prager [Pa]
+  double poisson_ratio = 0.3;   // linear_elastic and drucker_prager [-]
+  // drucker_prager only:
+  double friction_angle_deg = 30.0;  // Mohr-Coulomb friction angle phi [deg]
+  double dilation_angle_deg = 0.0;   // psi, 0 <= psi <= phi [deg]
+  double cohesion = 0.0;             // Mohr-Coulomb cohesion c [Pa]
+  ConeMatching matching = ConeMatching::kCompression;
 };
 
 // The shared section both programs read (hashed in the handshake).
@@ -102,12 +114,24 @@ struct OutputParams {
   double energy_interval = 0.0;  // between energy CSV rows [s]; 0: every step
   bool vtk = true;
   bool hdf5 = true;
-  double progress_interval_s = 2.0;  // wall time between progress lines
+  double progress_interval_s = 2.0;            // wall time between progress lines
+  std::int64_t checkpoint_interval_steps = 0;  // 0: no checkpoints
+  int checkpoints_kept = 2;
 };
 
 enum class VerificationKind { kNone, kElasticColumn, kBarVibration };
 struct VerificationParams {
   VerificationKind kind = VerificationKind::kNone;
+};
+
+// Column-collapse analysis (analysis/column_collapse.hpp): which region is the column,
+// which constraint holds it in stage 1, how long stage 2 runs, when snapshots are taken.
+struct ColumnCollapseParams {
+  bool enabled = false;
+  std::string region;              // empty: the first region
+  std::string release_constraint;  // empty: the first velocity constraint (if any)
+  double duration_t_star = 6.0;    // stage 2 length [t*]
+  std::vector<double> snapshots_t_star{1.0, 3.0, 6.0};
 };
 
 struct Scene {
@@ -122,6 +146,7 @@ struct Scene {
   CouplingParams coupling;
   OutputParams output;
   VerificationParams verification;
+  ColumnCollapseParams column_collapse;
 };
 
 }  // namespace mpmdem::mpm

@@ -97,6 +97,8 @@ Solver::Solver(const Scene& scene, Particles particles,
     if (out & protocol::kOutputCoordination) p_.coordination.assign(n, 0.0);
     if (out & protocol::kOutputUnbalancedForce) p_.unbalanced_force.assign(n, 0.0);
   } else {
+    // linear_elastic and drucker_prager: 1/2 sigma : C^-1 : sigma is the elastic strain energy
+    // of both (for perfect plasticity the elastic strain is C^-1 : sigma).
     law_ =
         elastic::ElasticLaw{scene_.constitutive.youngs_modulus, scene_.constitutive.poisson_ratio};
   }
@@ -125,6 +127,66 @@ Solver::Solver(const Scene& scene, Particles particles,
   }
   E_p0_ = energies().E_p;
   dt_next_ = stable_time_step(p_, grid_.h, scene_.solver.cfl, scene_.solver.dt_max);
+}
+
+Solver::Solver(const Scene& scene, SolverState state,
+               std::unique_ptr<ConstitutiveProvider> provider)
+    : scene_(scene),
+      p_(std::move(state.particles)),
+      provider_(std::move(provider)),
+      grid_(scene.grid),
+      bc_(scene, grid_) {
+  if (!provider_) throw std::invalid_argument("Solver: no constitutive provider");
+  if (state.slot.size() != p_.size() || state.constraint_active.size() != bc_.constraint_count()) {
+    throw std::invalid_argument(
+        "Solver: the saved state does not match the scene (" + std::to_string(p_.size()) +
+        " points, " + std::to_string(state.slot.size()) + " slots, " +
+        std::to_string(state.constraint_active.size()) + " constraint flags)");
+  }
+  if (scene_.constitutive.model != ModelKind::kRemote) {
+    law_ =
+        elastic::ElasticLaw{scene_.constitutive.youngs_modulus, scene_.constitutive.poisson_ratio};
+  }
+  double m_min = 0.0;
+  if (!p_.m.empty()) m_min = *std::min_element(p_.m.begin(), p_.m.end());
+  grid_.mass_floor = 1e-12 * m_min;
+  slot_ = std::move(state.slot);
+  dF_slots_.assign(state.n_slots, Mat3::Identity());
+  std::vector<Mat3> slot_stress(state.n_slots, Mat3::Zero());
+  for (std::size_t q = 0; q < p_.size(); ++q) slot_stress.at(slot_[q]) = p_.sigma[q];
+  for (std::size_t c = 0; c < bc_.constraint_count(); ++c)
+    bc_.set_active(c, state.constraint_active[c] != 0);
+  time_ = state.time;
+  dt_ = state.dt;
+  dt_next_ = state.dt_next;
+  step_ = state.step;
+  E_p0_ = state.E_p0;
+  removed_ = state.removed;
+  no_contact_updates_ = state.no_contact_updates;
+  provider_->resume(slot_stress, responses_);
+  if (responses_.size() != state.n_slots) {
+    throw SimulationError("constitutive provider '" + provider_->name() + "' resumed " +
+                          std::to_string(responses_.size()) + " points, expected " +
+                          std::to_string(state.n_slots));
+  }
+  // The saved stresses stand (a restored RVE reports the stress it was saved with).
+}
+
+SolverState Solver::state() const {
+  SolverState s;
+  s.particles = p_;
+  s.slot = slot_;
+  s.n_slots = dF_slots_.size();
+  s.time = time_;
+  s.dt = dt_;
+  s.dt_next = dt_next_;
+  s.E_p0 = E_p0_;
+  s.step = step_;
+  s.no_contact_updates = no_contact_updates_;
+  s.removed = removed_;
+  for (std::size_t c = 0; c < bc_.constraint_count(); ++c)
+    s.constraint_active.push_back(bc_.constraint_active(c) ? 1 : 0);
+  return s;
 }
 
 bool Solver::finished() const {
@@ -234,7 +296,10 @@ void Solver::apply_responses() {
     if (unbalanced) p_.unbalanced_force[q] = r.unbalanced_force;
     p_.strain_energy[q] = law_ ? p_.V[q] * law_->strain_energy_density(r.stress) : 0.0;
   }
-  if (bad == kNoPoint) return;
+  if (bad == kNoPoint) {
+    no_contact_updates_ += static_cast<std::int64_t>(no_contact_points());
+    return;
+  }
   const PointResponse& r = responses_[slot_[bad]];
   std::ostringstream msg;
   msg << "constitutive provider '" << provider_->name() << "' ";
@@ -247,6 +312,11 @@ void Solver::apply_responses() {
   }
   msg << describe_point(bad) << " at step " << step_ << " (t=" << time_ << " s)";
   throw SimulationError(msg.str());
+}
+
+std::size_t Solver::no_contact_points() const {
+  const auto no_contacts = static_cast<std::int32_t>(protocol::RveStatus::kNoContacts);
+  return static_cast<std::size_t>(std::count(p_.status.begin(), p_.status.end(), no_contacts));
 }
 
 void Solver::handle_points_outside_grid() {

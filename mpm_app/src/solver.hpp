@@ -32,7 +32,8 @@
 // The initial stress comes from initial_stresses(scene, particles) (Particles::sigma on
 // entry is ignored). Steps are not shortened to land on end_time: the last one may overshoot
 // it by less than dt. E_strain is computed (ElasticLaw::strain_energy_density) only when the
-// scene's model is linear_elastic; else 0.
+// scene's model is local (linear_elastic, drucker_prager: the elastic energy of the stress); else
+// 0.
 #pragma once
 
 #include <cstdint>
@@ -54,11 +55,27 @@
 
 namespace mpmdem::mpm {
 
+// Everything step() needs to continue a run exactly (checkpoints, output/checkpoint.hpp).
+struct SolverState {
+  Particles particles;
+  std::vector<std::size_t> slot;  // provider slot of each point
+  std::size_t n_slots = 0;        // provider batch size (points at the start)
+  double time = 0.0, dt = 0.0, dt_next = 0.0, E_p0 = 0.0;
+  std::int64_t step = 0;
+  std::int64_t no_contact_updates = 0;
+  std::size_t removed = 0;
+  std::vector<char> constraint_active;
+};
+
 class Solver {
  public:
   // Calls provider->initialise(initial_stresses(scene, particles)) and keeps the responses,
   // checks the points are inside the grid, records E_p0 and the first time step.
   Solver(const Scene& scene, Particles particles, std::unique_ptr<ConstitutiveProvider> provider);
+  // Continues a saved run: provider->resume(stresses per slot) instead of initialise (a
+  // remote provider asks the restored servers for their state).
+  Solver(const Scene& scene, SolverState state, std::unique_ptr<ConstitutiveProvider> provider);
+  SolverState state() const;
 
   // One explicit step. Throws SimulationError (the run must stop).
   void step();
@@ -83,6 +100,11 @@ class Solver {
 
   ConstitutiveProvider& provider() { return *provider_; }
   std::size_t removed_points() const { return removed_; }
+  // Point-updates that came back with a non-fatal, non-ok status (protocol::RveStatus
+  // kNoContacts: the RVE lost all contacts and returned zero stress), over the whole run.
+  std::int64_t no_contact_updates() const { return no_contact_updates_; }
+  // Points whose last update had that status.
+  std::size_t no_contact_points() const;
 
  private:
   template <class Shape>
@@ -103,13 +125,14 @@ class Solver {
   std::vector<std::size_t> slot_;  // provider slot of each point
   std::vector<Mat3> dF_slots_;     // batch sent to the provider (identity on removed slots)
   std::vector<PointResponse> responses_;
-  std::optional<elastic::ElasticLaw> law_;  // strain energy (linear_elastic only)
+  std::optional<elastic::ElasticLaw> law_;  // strain energy (local models only)
   double time_ = 0.0;
   double dt_ = 0.0;
   double dt_next_ = 0.0;
   std::int64_t step_ = 0;
   double E_p0_ = 0.0;
   std::size_t removed_ = 0;
+  std::int64_t no_contact_updates_ = 0;
   std::vector<std::string> events_;
 };
 

@@ -7,6 +7,7 @@
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -51,13 +52,19 @@ std::string json_string(const std::string& s) {
   return out + "\"";
 }
 
+// coupling.yade.packing_dir; a relative one is relative to the scene file's folder.
+std::string packing_dir(const config::Config& cfg) {
+  const std::string d = cfg.string("coupling.yade.packing_dir");
+  if (d.empty() || std::filesystem::path(d).is_absolute()) return d;
+  return (std::filesystem::path(cfg.file()).parent_path() / d).lexically_normal().string();
+}
+
 class YadeBackend final : public RveBackend {
  public:
   YadeBackend(const config::Config& cfg, const BackendContext& ctx) : ctx_(ctx) {
     std::ostringstream p;
     p.precision(17);
-    p << "{\"packing_dir\": " << json_string(cfg.string("coupling.yade.packing_dir"))
-      << ", \"packings\": [";
+    p << "{\"packing_dir\": " << json_string(packing_dir(cfg)) << ", \"packings\": [";
     const auto names = cfg.strings("coupling.yade.packings");
     for (std::size_t i = 0; i < names.size(); ++i) p << (i ? ", " : "") << json_string(names[i]);
     p << "], \"seed\": " << cfg.integer("coupling.yade.seed")

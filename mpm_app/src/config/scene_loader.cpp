@@ -3,10 +3,13 @@
 // its value, the file and the line.
 #include "config/scene_loader.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
+#include "analysis/column_collapse.hpp"
 #include "coupling_schema.hpp"
+#include "errors.hpp"
 #include "mpmdem/config_hash.hpp"
 
 namespace mpmdem::mpm {
@@ -91,12 +94,22 @@ std::vector<RegionParams> load_regions(const Config& cfg, const Domain& d) {
     p.min = vec(r.vec3("min"));
     p.max = vec(r.vec3("max"));
     p.points_per_cell = static_cast<int>(r.integer("points_per_cell"));
-    const double spacing = d.h / p.points_per_cell;
+    if (r.has("points_per_cell_xyz")) {
+      const auto n = r.vec3("points_per_cell_xyz");
+      for (int a = 0; a < 3; ++a) {
+        if (!(n[a] >= 1 && n[a] <= 8 && n[a] == std::floor(n[a]))) {
+          r.fail("points_per_cell_xyz", std::string("must hold integers from 1 to 8; the ") +
+                                            kAxis[a] + " entry is " + config::format_number(n[a]));
+        }
+        p.points_xyz[static_cast<std::size_t>(a)] = static_cast<int>(n[a]);
+      }
+    }
     for (int a = 0; a < 3; ++a) {
+      const double spacing = d.h / p.points_along(a);
       if (p.max[a] - p.min[a] < spacing - d.tol) {
         r.fail("", "is " + config::format_number(p.max[a] - p.min[a]) + " m thick along " +
                        kAxis[a] + ", less than one point spacing (grid.cell_size / " +
-                       "points_per_cell = " + config::format_number(spacing) +
+                       "points per cell = " + config::format_number(spacing) +
                        " m): it would hold no material points");
       }
     }
@@ -159,9 +172,6 @@ std::vector<VelocityConstraintParams> load_constraints(const Config& cfg, const 
       }
     }
     p.value = vec(c.vec3("value"));
-    if (c.has("release_time") && c.has("release_kinetic_ratio")) {
-      c.fail("release_kinetic_ratio", "is given together with release_time: give one of them");
-    }
     if (c.has("release_min_time") && !c.has("release_kinetic_ratio")) {
       c.fail("release_min_time", "only applies with release_kinetic_ratio, which is missing");
     }
@@ -199,6 +209,27 @@ ConstitutiveParams load_constitutive(const Config& cfg) {
                "add one, see docs/configuration.md");
     }
     check_coupling(cfg);
+  } else if (cfg.string("constitutive.model") == "drucker_prager") {
+    c.model = ModelKind::kDruckerPrager;
+    if (!cfg.has("constitutive.drucker_prager")) {
+      cfg.fail("constitutive.model",
+               "is drucker_prager but the section constitutive.drucker_prager "
+               "(youngs_modulus, poisson_ratio, friction_angle_deg, ...) is missing");
+    }
+    c.youngs_modulus = cfg.number("constitutive.drucker_prager.youngs_modulus");
+    c.poisson_ratio = cfg.number("constitutive.drucker_prager.poisson_ratio");
+    c.friction_angle_deg = cfg.number("constitutive.drucker_prager.friction_angle_deg");
+    c.dilation_angle_deg = cfg.number("constitutive.drucker_prager.dilation_angle_deg");
+    c.cohesion = cfg.number("constitutive.drucker_prager.cohesion");
+    c.matching = cfg.string("constitutive.drucker_prager.matching") == "plane_strain"
+                     ? ConeMatching::kPlaneStrain
+                     : ConeMatching::kCompression;
+    if (c.dilation_angle_deg > c.friction_angle_deg) {
+      cfg.fail("constitutive.drucker_prager.dilation_angle_deg",
+               config::format_number(c.dilation_angle_deg) + " is larger than friction_angle_deg " +
+                   config::format_number(c.friction_angle_deg) +
+                   "; the dilation angle must not exceed the friction angle");
+    }
   } else {
     c.model = ModelKind::kLinearElastic;
     if (!cfg.has("constitutive.linear_elastic")) {
@@ -231,6 +262,8 @@ OutputParams load_output(const Config& cfg) {
   o.vtk = cfg.boolean("output.vtk");
   o.hdf5 = cfg.boolean("output.hdf5");
   o.progress_interval_s = cfg.number("output.progress_interval_s");
+  o.checkpoint_interval_steps = cfg.integer("output.checkpoint_interval_steps");
+  o.checkpoints_kept = static_cast<int>(cfg.integer("output.checkpoints_kept"));
   return o;
 }
 
@@ -244,6 +277,18 @@ VerificationParams load_verification(const Config& cfg) {
 }
 
 }  // namespace
+
+ColumnCollapseParams load_column_collapse(const Config& cfg) {
+  ColumnCollapseParams c;
+  if (!cfg.has("column_collapse")) return c;
+  c.enabled = true;
+  c.region = cfg.string("column_collapse.region");
+  c.release_constraint = cfg.string("column_collapse.release_constraint");
+  c.duration_t_star = cfg.number("column_collapse.duration_t_star");
+  const auto k = cfg.vec3("column_collapse.snapshots_t_star");
+  c.snapshots_t_star.assign(k.begin(), k.end());
+  return c;
+}
 
 Scene load_scene(const std::string& file) {
   const Config cfg = Config::load(file, scene_schema());
@@ -265,6 +310,14 @@ Scene load_scene(const std::string& file) {
   scene.coupling = load_coupling(cfg);
   scene.output = load_output(cfg);
   scene.verification = load_verification(cfg);
+  scene.column_collapse = load_column_collapse(cfg);
+  if (scene.column_collapse.enabled) {
+    try {
+      (void)column_geometry(scene);
+    } catch (const SceneError& e) {
+      cfg.fail("column_collapse", e.what());
+    }
+  }
   return scene;
 }
 

@@ -40,6 +40,9 @@ void add_region_keys(config::Schema& s) {
             .def("2")
             .ge(1)
             .le(8));
+  s.add(key("regions[].points_per_cell_xyz", Type::kVec3, "-",
+            "points per cell along x, y and z (integers 1-8); overrides points_per_cell, e.g. "
+            "[2, 1, 2] for a plane-strain slice one cell wide"));
   s.add(key("regions[].density", Type::kDouble, "kg/m^3", "initial mass density").req().gt(0));
   s.add(key("regions[].velocity", Type::kVec3, "m/s", "initial velocity").def("[0, 0, 0]"));
   s.add(key("regions[].sine_velocity", Type::kMap, "",
@@ -93,7 +96,8 @@ void add_constraint_keys(config::Schema& s) {
             "held velocity (only the listed components are used)")
             .def("[0, 0, 0]"));
   s.add(key("velocity_constraints[].release_time", Type::kDouble, "s",
-            "release at this time (optional; never released if neither release key is given)")
+            "release at this time (optional; never released if neither release key is given; "
+            "with release_kinetic_ratio too, whichever comes first)")
             .ge(0));
   s.add(key("velocity_constraints[].release_kinetic_ratio", Type::kDouble, "-",
             "release when E_k / E_p0 falls below this after release_min_time (optional)")
@@ -148,9 +152,10 @@ void add_solver_keys(config::Schema& s) {
 void add_constitutive_keys(config::Schema& s) {
   s.add(key("constitutive", Type::kMap, "", "stress at the material points").req());
   s.add(key("constitutive.model", Type::kEnum, "",
-            "linear_elastic (in-process) or remote (RVEs on dem_app; needs coupling:)")
+            "linear_elastic or drucker_prager (in-process) or remote (RVEs on dem_app; needs "
+            "coupling:)")
             .def("linear_elastic")
-            .one_of({"linear_elastic", "remote"}));
+            .one_of({"linear_elastic", "drucker_prager", "remote"}));
   s.add(key("constitutive.linear_elastic", Type::kMap, "",
             "isotropic linear elasticity with an objective update (model linear_elastic)"));
   s.add(key("constitutive.linear_elastic.youngs_modulus", Type::kDouble, "Pa", "Young's modulus E")
@@ -160,6 +165,37 @@ void add_constitutive_keys(config::Schema& s) {
             .req()
             .ge(0)
             .lt(0.5));
+  s.add(key("constitutive.drucker_prager", Type::kMap, "",
+            "elastic-perfectly plastic Drucker-Prager cone fitted to Mohr-Coulomb, "
+            "non-associated, with the objective update of linear_elastic (model drucker_prager)"));
+  s.add(key("constitutive.drucker_prager.youngs_modulus", Type::kDouble, "Pa", "Young's modulus E")
+            .req()
+            .gt(0));
+  s.add(key("constitutive.drucker_prager.poisson_ratio", Type::kDouble, "-", "Poisson's ratio nu")
+            .req()
+            .ge(0)
+            .lt(0.5));
+  s.add(key("constitutive.drucker_prager.friction_angle_deg", Type::kDouble, "deg",
+            "Mohr-Coulomb friction angle phi")
+            .req()
+            .gt(0)
+            .lt(90));
+  s.add(key("constitutive.drucker_prager.dilation_angle_deg", Type::kDouble, "deg",
+            "dilation angle psi, at most friction_angle_deg; 0: plastic flow keeps the volume")
+            .def("0")
+            .ge(0)
+            .lt(90));
+  s.add(key("constitutive.drucker_prager.cohesion", Type::kDouble, "Pa",
+            "Mohr-Coulomb cohesion c; the cone's apex at p = -c cot(phi) is the tension "
+            "cutoff (0: no tension)")
+            .def("0")
+            .ge(0));
+  s.add(key("constitutive.drucker_prager.matching", Type::kEnum, "",
+            "compression: the cone through Mohr-Coulomb's triaxial-compression corners, q/p = "
+            "6 sin(phi)/(3 - sin(phi)); plane_strain: the same plane-strain limit load as "
+            "Mohr-Coulomb")
+            .def("compression")
+            .one_of({"compression", "plane_strain"}));
 }
 
 void add_output_keys(config::Schema& s) {
@@ -174,6 +210,14 @@ void add_output_keys(config::Schema& s) {
             .ge(0));
   s.add(key("output.vtk", Type::kBool, "", "write .vtu frames and a .pvd series").def("true"));
   s.add(key("output.hdf5", Type::kBool, "", "write the final state to HDF5").def("true"));
+  s.add(key("output.checkpoint_interval_steps", Type::kInt, "-",
+            "write a checkpoint of both sides every this many steps (checkpoints/step_<n>/; "
+            "scripts/run --resume RUN continues from the newest complete one); 0: none")
+            .def("0")
+            .ge(0));
+  s.add(key("output.checkpoints_kept", Type::kInt, "-", "newest complete checkpoints kept")
+            .def("2")
+            .ge(1));
   s.add(key("output.progress_interval_s", Type::kDouble, "s",
             "wall time between progress lines on the terminal")
             .def("2")
@@ -187,6 +231,30 @@ void add_verification_keys(config::Schema& s) {
             "period of the first axial mode")
             .def("none")
             .one_of({"none", "elastic_column", "bar_vibration"}));
+}
+
+void add_column_collapse_keys(config::Schema& s) {
+  s.add(key("column_collapse", Type::kMap, "",
+            "granular column collapse analysis (two stages, runout, final height, energies, "
+            "snapshots; see analysis/column_collapse.hpp). Gravity must point along -z and "
+            "the column must stand on the z_min face against the x_min face"));
+  s.add(
+      key("column_collapse.region", Type::kString, "", "the column region; empty: the first region")
+          .def("''"));
+  s.add(key("column_collapse.release_constraint", Type::kString, "",
+            "velocity constraint holding the lateral free surface in stage 1; its release "
+            "starts stage 2 (empty: the first constraint; none: stage 2 from t = 0)")
+            .def("''"));
+  s.add(key("column_collapse.duration_t_star", Type::kDouble, "t*",
+            "stage-2 length in units of t* = sqrt(H_i/|g|); the run ends then "
+            "(solver.end_time stays a cap)")
+            .def("6")
+            .gt(0));
+  s.add(key("column_collapse.snapshots_t_star", Type::kVec3, "t*",
+            "three stage-2 times (in t*) at which the state is saved to "
+            "snapshots/t_star_<k>.h5 for the pictures")
+            .def("[1, 3, 6]")
+            .ge(0));
 }
 
 }  // namespace
@@ -204,6 +272,7 @@ const config::Schema& scene_schema() {
     add_coupling_keys(s);
     add_output_keys(s);
     add_verification_keys(s);
+    add_column_collapse_keys(s);
     return s;
   }();
   return schema;

@@ -34,6 +34,12 @@ class ConstitutiveProvider {
   // Apply one incremental deformation gradient per point over dt.
   virtual void update(const std::vector<Mat3>& dF, double dt, std::int64_t step, double time,
                       std::vector<PointResponse>& out) = 0;
+  // Continue a checkpointed run: the state of every point is the given stress (local
+  // models) or was restored by the provider's own means (remote: servers started with
+  // --restore, asked for their current state). Default: initialise(stress).
+  virtual void resume(const std::vector<Mat3>& stress, std::vector<PointResponse>& out) {
+    initialise(stress, out);
+  }
   // Ask the provider to save its state under dir (remote: the servers do it).
   virtual void checkpoint(const std::string& dir, std::int64_t step) {
     (void)dir;

@@ -69,6 +69,19 @@ class RemoteProvider : public ConstitutiveProvider {
     to_responses(replies_, out);
   }
 
+  // The servers were started with --restore: ask them for the state they restored.
+  void resume(const std::vector<Mat3>& stress, std::vector<PointResponse>& out) override {
+    requests_.assign(stress.size(), protocol::RveRequest{});
+    for (protocol::RveRequest& r : requests_) {
+      Eigen::Map<RowMajor3>(r.dF) = Mat3::Identity();
+      r.flags = protocol::kFlagQueryOnly;
+    }
+    protocol::ControlHeader header;
+    std::memset(&header, 0, sizeof header);
+    client_.step(header, requests_, replies_);
+    to_responses(replies_, out);
+  }
+
   void checkpoint(const std::string& dir, std::int64_t step) override {
     client_.checkpoint(dir, step);
   }

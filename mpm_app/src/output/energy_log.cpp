@@ -2,7 +2,10 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
+
+#include "output/run_directory.hpp"
 
 namespace mpmdem::mpm {
 
@@ -10,6 +13,27 @@ EnergyLog::EnergyLog(const std::string& path) : path_(path), out_(path, std::ios
   if (!out_) throw std::runtime_error("cannot write '" + path + "'");
   out_ << kHeader << '\n';
   out_.flush();
+}
+
+EnergyLog::EnergyLog(const std::string& path, std::int64_t last_step) : path_(path) {
+  std::string kept = std::string(kHeader) + "\n";
+  {
+    std::ifstream in(path);
+    std::string line;
+    std::getline(in, line);  // header
+    while (std::getline(in, line)) {
+      const auto comma = line.find(',');
+      if (comma == std::string::npos) break;
+      const auto next = line.find(',', comma + 1);
+      const long long step = std::atoll(line.substr(comma + 1, next - comma - 1).c_str());
+      if (step > last_step) break;
+      kept += line + "\n";
+      ++rows_;
+    }
+  }
+  write_file_atomic(path, kept);
+  out_.open(path, std::ios::app);
+  if (!out_) throw std::runtime_error("cannot append to '" + path + "'");
 }
 
 void EnergyLog::append(const EnergyRow& r) {

@@ -27,6 +27,9 @@ class EnergyLog {
   static constexpr const char* kHeader = "time,step,dt,E_p,E_k,E_d,E_strain,E_p0";
 
   explicit EnergyLog(const std::string& path);
+  // Continues the log of a resumed run: keeps the header and the rows up to `last_step`
+  // (rows the interrupted run wrote after its checkpoint are dropped), then appends.
+  EnergyLog(const std::string& path, std::int64_t last_step);
   // Appends one row. Throws std::runtime_error if a value is not finite (nothing written).
   void append(const EnergyRow& row);
   std::size_t rows() const { return rows_; }

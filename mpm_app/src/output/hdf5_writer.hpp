@@ -1,6 +1,8 @@
 // The final state in HDF5 (C API), readable with h5py:
 //   datasets  id (n, int64), region (n, int32), x, x0, v (n x 3), stress, F (n x 3 x 3,
-//             row-major, stress tension positive), volume, mass (n) — SI units;
+//             row-major, stress tension positive), volume, mass (n) — SI units; and when the
+//             run has them: rotation (n x 3, mean RVE particle rotation [rad]), porosity,
+//             coordination (n), status (n, int32, protocol::RveStatus);
 //   attributes on the root group: time [s], step, scene (name), config_file.
 #pragma once
 

@@ -103,6 +103,7 @@ std::string to_json(const RunSummary& s) {
   const double E_d = s.E_p0_J - s.E_p_J - s.E_k_J;
   w.num("E_d_J", E_d);
   w.num("E_d_over_E_p0", s.E_p0_J != 0.0 ? E_d / s.E_p0_J : 0.0);
+  for (const auto& [key, value] : s.analysis) w.num(key, value);
   if (!s.verification_kind.empty()) {
     std::ostringstream inner;
     inner << "{\n";

@@ -10,6 +10,8 @@
 //   time_s, end_time_s, dt_min_s, dt_max_s
 //   mass_initial_kg, mass_final_kg, E_p0_J, E_p_J, E_k_J, E_d_J, E_d_over_E_p0
 //   verification       {"kind": ..., <error figures of that kind>} (absent for kind none)
+//   <analysis figures> top-level numbers of the scene's analysis (column_collapse: t_star_s,
+//                      runout_m, ...; see analysis/column_collapse.hpp)
 // Non-finite numbers are written as null (JSON has no NaN).
 #pragma once
 
@@ -44,6 +46,8 @@ struct RunSummary {
   double E_p0_J = 0.0;
   double E_p_J = 0.0;
   double E_k_J = 0.0;
+  // Figures of an analysis (e.g. column_collapse), written at the top level in this order.
+  std::vector<std::pair<std::string, double>> analysis;
   std::string verification_kind;                             // empty: none
   std::vector<std::pair<std::string, double>> verification;  // figure name -> value
 };

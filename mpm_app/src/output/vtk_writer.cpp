@@ -145,6 +145,21 @@ void write_vtu(const std::string& path, const Particles& p) {
 VtkSeries::VtkSeries(std::string dir, std::string prefix)
     : dir_(std::move(dir)), prefix_(std::move(prefix)) {}
 
+VtkSeries::VtkSeries(std::string dir, const std::vector<double>& times, std::string prefix)
+    : dir_(std::move(dir)), prefix_(std::move(prefix)) {
+  for (double t : times) {
+    char name[64];
+    std::snprintf(name, sizeof name, "%s_%05zu.vtu", prefix_.c_str(), frames_.size());
+    frames_.emplace_back(t, name);
+  }
+}
+
+std::vector<double> VtkSeries::frame_times() const {
+  std::vector<double> t;
+  for (const auto& f : frames_) t.push_back(f.first);
+  return t;
+}
+
 std::string VtkSeries::pvd_path() const {
   return dir_ + "/" + prefix_ + "s.pvd";
 }

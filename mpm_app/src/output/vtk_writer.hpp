@@ -24,6 +24,10 @@ class VtkSeries {
  public:
   // Frames go to dir/<prefix>_NNNNN.vtu, the collection to dir/<prefix>s.pvd.
   explicit VtkSeries(std::string dir, std::string prefix = "frame");
+  // Continues a series whose first frames (prefix_00000.vtu, ...) were written at `times`
+  // (a resumed run: frames written after its checkpoint are overwritten).
+  VtkSeries(std::string dir, const std::vector<double>& times, std::string prefix = "frame");
+  std::vector<double> frame_times() const;
   // Writes the next frame and rewrites the collection. Returns the frame's file name.
   std::string write_frame(const Particles& p, double time);
   std::size_t frames() const { return frames_.size(); }

@@ -14,7 +14,8 @@ namespace {
 // True if the bar cannot expand sideways: walls on both faces of each lateral axis and the
 // region touching them (within half a point spacing).
 bool laterally_confined(const Scene& scene, const RegionParams& reg, int axis) {
-  const double tol = 0.5 * scene.grid.cell_size / reg.points_per_cell;
+  const double tol = 0.5 * scene.grid.cell_size /
+                     std::max({reg.points_along(0), reg.points_along(1), reg.points_along(2)});
   for (int a = 0; a < 3; ++a) {
     if (a == axis) continue;
     const WallParams& lo = scene.walls[static_cast<std::size_t>(2 * a)];

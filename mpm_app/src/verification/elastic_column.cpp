@@ -69,7 +69,9 @@ ElasticColumnResult verify_elastic_column(const Scene& scene, const Particles& p
   for (const Vec3& x0 : p.x0) z_top = std::max(z_top, x0.z());
   double min_spacing = std::numeric_limits<double>::infinity();
   for (const RegionParams& reg : scene.regions)
-    min_spacing = std::min(min_spacing, scene.grid.cell_size / reg.points_per_cell);
+    min_spacing = std::min(
+        min_spacing, scene.grid.cell_size /
+                         std::max({reg.points_along(0), reg.points_along(1), reg.points_along(2)}));
   double u_sum = 0.0, u_expected_sum = 0.0, surface_sum = 0.0;
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (p.x0[i].z() < z_top - 0.25 * min_spacing) continue;

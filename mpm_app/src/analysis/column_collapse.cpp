@@ -1,0 +1,166 @@
+#include "analysis/column_collapse.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "boundary_conditions.hpp"
+#include "errors.hpp"
+
+namespace mpmdem::mpm {
+
+namespace {
+
+std::string where(const Scene& scene) {
+  return " (" + scene.source_file + ")";
+}
+
+}  // namespace
+
+ColumnGeometry column_geometry(const Scene& scene) {
+  const ColumnCollapseParams& cp = scene.column_collapse;
+  ColumnGeometry g;
+  const Vec3& grav = scene.solver.gravity;
+  if (!(grav[2] < 0.0) || std::abs(grav[0]) > 1e-12 * std::abs(grav[2]) ||
+      std::abs(grav[1]) > 1e-12 * std::abs(grav[2])) {
+    throw SceneError("column_collapse needs solver.gravity along -z, got [" +
+                     std::to_string(grav[0]) + ", " + std::to_string(grav[1]) + ", " +
+                     std::to_string(grav[2]) + "]" + where(scene));
+  }
+  g.g = -grav[2];
+  g.region = -1;
+  for (std::size_t r = 0; r < scene.regions.size(); ++r) {
+    if (cp.region.empty() || scene.regions[r].name == cp.region) {
+      g.region = static_cast<int>(r);
+      break;
+    }
+  }
+  if (g.region < 0) {
+    throw SceneError("column_collapse.region '" + cp.region + "' names no region of regions[]" +
+                     where(scene));
+  }
+  const RegionParams& reg = scene.regions[static_cast<std::size_t>(g.region)];
+  g.x_back = reg.min[0];
+  g.z_base = reg.min[2];
+  g.L_i = reg.max[0] - reg.min[0];
+  g.H_i = reg.max[2] - reg.min[2];
+  g.W = reg.max[1] - reg.min[1];
+  g.t_star = std::sqrt(g.H_i / g.g);
+  g.spacing_x = scene.grid.cell_size / reg.points_along(0);
+  g.spacing_z = scene.grid.cell_size / reg.points_along(2);
+  const double tol = 1e-9 * scene.grid.cell_size;
+  if (std::abs(reg.min[0] - scene.grid.origin[0]) > tol) {
+    throw SceneError("column_collapse: region '" + reg.name + "' must touch the back wall: its " +
+                     "min x (" + std::to_string(reg.min[0]) + " m) differs from grid.origin x (" +
+                     std::to_string(scene.grid.origin[0]) + " m)" + where(scene));
+  }
+  if (std::abs(reg.min[2] - scene.grid.origin[2]) > tol) {
+    throw SceneError("column_collapse: region '" + reg.name + "' must stand on the base: its " +
+                     "min z (" + std::to_string(reg.min[2]) + " m) differs from grid.origin z (" +
+                     std::to_string(scene.grid.origin[2]) + " m)" + where(scene));
+  }
+  for (std::size_t c = 0; c < scene.constraints.size(); ++c) {
+    if (cp.release_constraint.empty() || scene.constraints[c].name == cp.release_constraint) {
+      g.constraint = static_cast<int>(c);
+      break;
+    }
+  }
+  if (!cp.release_constraint.empty() && g.constraint < 0) {
+    throw SceneError("column_collapse.release_constraint '" + cp.release_constraint +
+                     "' names no entry of velocity_constraints[]" + where(scene));
+  }
+  return g;
+}
+
+DepositShape measure_deposit(const ColumnGeometry& g, const Particles& p) {
+  DepositShape d;
+  double x_max = -std::numeric_limits<double>::infinity();
+  double z_max = x_max;
+  for (std::size_t q = 0; q < p.size(); ++q) {
+    x_max = std::max(x_max, p.x[q][0]);
+    z_max = std::max(z_max, p.x[q][2]);
+  }
+  if (p.size() == 0) return d;
+  d.runout_m = x_max + 0.5 * g.spacing_x - g.x_back;
+  d.final_height_m = z_max + 0.5 * g.spacing_z - g.z_base;
+  return d;
+}
+
+double potential_energy_above_base(const ColumnGeometry& g, const Particles& p) {
+  double e = 0.0;
+  for (std::size_t q = 0; q < p.size(); ++q) e += p.m[q] * g.g * (p.x[q][2] - g.z_base);
+  return e;
+}
+
+ColumnCollapseMonitor::ColumnCollapseMonitor(const Scene& scene)
+    : g_(column_geometry(scene)),
+      duration_t_star_(scene.column_collapse.duration_t_star),
+      snapshots_t_star_(scene.column_collapse.snapshots_t_star),
+      snapshot_done_(snapshots_t_star_.size(), false) {}
+
+bool ColumnCollapseMonitor::observe(double time, const BoundaryConditions& bc, const Particles& p) {
+  if (release_time_) return false;
+  if (g_.constraint >= 0 && bc.constraint_active(static_cast<std::size_t>(g_.constraint))) {
+    return false;
+  }
+  release_time_ = time;
+  E_p0_release_ = potential_energy_above_base(g_, p);
+  return true;
+}
+
+void ColumnCollapseMonitor::restore(std::optional<double> release_time, double E_p0_release,
+                                    const std::vector<char>& snapshots_done) {
+  release_time_ = release_time;
+  E_p0_release_ = E_p0_release;
+  for (std::size_t k = 0; k < snapshot_done_.size() && k < snapshots_done.size(); ++k)
+    snapshot_done_[k] = snapshots_done[k] != 0;
+}
+
+bool ColumnCollapseMonitor::done(double time) const {
+  return release_time_ && time >= *release_time_ + duration_t_star_ * g_.t_star * (1.0 - 1e-12);
+}
+
+std::vector<std::string> ColumnCollapseMonitor::due_snapshots(double time, double tol) {
+  std::vector<std::string> due;
+  if (!release_time_) return due;
+  for (std::size_t k = 0; k < snapshots_t_star_.size(); ++k) {
+    if (snapshot_done_[k]) continue;
+    if (time + tol >= *release_time_ + snapshots_t_star_[k] * g_.t_star) {
+      snapshot_done_[k] = true;
+      char label[32];
+      std::snprintf(label, sizeof label, "t_star_%g", snapshots_t_star_[k]);
+      due.emplace_back(label);
+    }
+  }
+  return due;
+}
+
+double ColumnCollapseMonitor::time_over_t_star(double time) const {
+  return (time - release_time_.value_or(time)) / g_.t_star;
+}
+
+std::vector<std::pair<std::string, double>> ColumnCollapseMonitor::figures(
+    double time, const Particles& p) const {
+  const DepositShape d = measure_deposit(g_, p);
+  double E_k = 0.0;
+  for (std::size_t q = 0; q < p.size(); ++q) E_k += 0.5 * p.m[q] * p.v[q].squaredNorm();
+  const double E_p = potential_energy_above_base(g_, p);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double E_d = E_p0_release_ - E_p - E_k;
+  return {{"t_star_s", g_.t_star},
+          {"initial_height_m", g_.H_i},
+          {"initial_length_m", g_.L_i},
+          {"aspect_ratio", g_.H_i / g_.L_i},
+          {"stage1_time_s", release_time_.value_or(nan)},
+          {"time_over_t_star_final", release_time_ ? time_over_t_star(time) : nan},
+          {"runout_m", d.runout_m},
+          {"runout_normalized", (d.runout_m - g_.L_i) / g_.L_i},
+          {"final_height_m", d.final_height_m},
+          {"final_height_over_initial", d.final_height_m / g_.H_i},
+          {"Ep0_release_J", release_time_ ? E_p0_release_ : nan},
+          {"Ed_over_Ep0_final", release_time_ && E_p0_release_ > 0 ? E_d / E_p0_release_ : nan},
+          {"Ek_over_Ep0_final", release_time_ && E_p0_release_ > 0 ? E_k / E_p0_release_ : nan}};
+}
+
+}  // namespace mpmdem::mpm

@@ -1,0 +1,152 @@
+#include "constitutive/drucker_prager.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "constitutive/elastic_law.hpp"
+#include "mpmdem/protocol.hpp"
+#include "parallel.hpp"
+
+namespace mpmdem::mpm {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Compression-cone slope 6 sin(a) / (3 - sin(a)).
+double compression_slope(double sin_a) {
+  return 6.0 * sin_a / (3.0 - sin_a);
+}
+
+}  // namespace
+
+DruckerPragerLaw::DruckerPragerLaw(const ConstitutiveParams& params)
+    : E_(params.youngs_modulus), nu_(params.poisson_ratio), c_(params.cohesion) {
+  const double phi_deg = params.friction_angle_deg, psi_deg = params.dilation_angle_deg;
+  if (!(E_ > 0.0) || !(nu_ > -1.0 && nu_ < 0.5) || !(phi_deg > 0.0 && phi_deg < 90.0) ||
+      !(psi_deg >= 0.0 && psi_deg <= phi_deg) || !(c_ >= 0.0)) {
+    throw std::invalid_argument(
+        "drucker_prager needs youngs_modulus > 0, -1 < poisson_ratio < 0.5, 0 < "
+        "friction_angle_deg < 90, 0 <= dilation_angle_deg <= friction_angle_deg and cohesion "
+        ">= 0, got E=" +
+        std::to_string(E_) + ", nu=" + std::to_string(nu_) + ", phi=" + std::to_string(phi_deg) +
+        ", psi=" + std::to_string(psi_deg) + ", c=" + std::to_string(c_));
+  }
+  const elastic::ElasticLaw law{E_, nu_};
+  G_ = law.shear_modulus();
+  lambda_ = law.lame_lambda();
+  K_ = lambda_ + 2.0 * G_ / 3.0;
+  const double sin_phi = std::sin(phi_deg * kPi / 180.0);
+  const double sin_psi = std::sin(psi_deg * kPi / 180.0);
+  const double tan_phi = std::tan(phi_deg * kPi / 180.0);
+  if (params.matching == ConeMatching::kCompression) {
+    eta_ = compression_slope(sin_phi);
+    eta_g_ = compression_slope(sin_psi);
+  } else {
+    const double root = std::sqrt(3.0 + sin_psi * sin_psi);
+    eta_ = 3.0 * sin_phi * root / (3.0 + sin_phi * sin_psi);
+    eta_g_ = 3.0 * sin_psi / root;
+  }
+  xi_ = eta_ / tan_phi;
+  p_apex_ = -c_ / tan_phi;
+}
+
+double DruckerPragerLaw::yield_function(const Mat3& sigma) const {
+  const double p = -sigma.trace() / 3.0;
+  const Mat3 s = sigma + p * Mat3::Identity();
+  const double q = std::sqrt(1.5 * s.squaredNorm());
+  return q - eta_ * p - xi_ * c_;
+}
+
+Mat3 DruckerPragerLaw::return_map(const Mat3& sigma_trial) const {
+  const double p_tr = -sigma_trial.trace() / 3.0;
+  const Mat3 s_tr = sigma_trial + p_tr * Mat3::Identity();
+  const double q_tr = std::sqrt(1.5 * s_tr.squaredNorm());
+  const double f_tr = q_tr - eta_ * p_tr - xi_ * c_;
+  if (f_tr <= 0.0) return sigma_trial;
+  const double dlambda = f_tr / (3.0 * G_ + eta_ * eta_g_ * K_);
+  const double q = q_tr - 3.0 * G_ * dlambda;
+  if (q > 0.0) {
+    // Cone. p from the consistency condition rather than p_tr + K eta_g dlambda, which is the
+    // same number up to round-off, so that f = 0 holds to round-off also for small q.
+    const double p = (q - xi_ * c_) / eta_;
+    return (q / q_tr) * s_tr - p * Mat3::Identity();
+  }
+  return -p_apex_ * Mat3::Identity();
+}
+
+Mat3 DruckerPragerLaw::update(const Mat3& sigma, const Mat3& dF) const {
+  // The kinematics of elastic::ElasticLaw::update (polar decomposition and Hencky increment).
+  const Mat3 H = dF - Mat3::Identity();
+  const Mat3 E_gl = 0.5 * (H + H.transpose() + H.transpose() * H);
+  Mat3 d_eps, dU_inv;
+  if (E_gl.squaredNorm() <= elastic::ElasticLaw::kSeriesLimit * elastic::ElasticLaw::kSeriesLimit) {
+    elastic::ElasticLaw::series(E_gl, d_eps, dU_inv);
+  } else {
+    elastic::ElasticLaw::spectral(E_gl, d_eps, dU_inv);
+  }
+  const Mat3 dR = dF * dU_inv;
+  const Mat3 trial = sigma + (lambda_ * d_eps.trace() * Mat3::Identity() + 2.0 * G_ * d_eps);
+  const Mat3 s = dR * return_map(trial) * dR.transpose();
+  return 0.5 * (s + s.transpose());
+}
+
+double DruckerPragerLaw::strain_energy_density(const Mat3& sigma) const {
+  const double tr = sigma.trace();
+  return ((1.0 + nu_) * sigma.squaredNorm() - nu_ * tr * tr) / (2.0 * E_);
+}
+
+namespace {
+
+class DruckerPragerProvider final : public ConstitutiveProvider {
+ public:
+  explicit DruckerPragerProvider(const DruckerPragerLaw& law) : law_(law) {}
+
+  std::string name() const override { return "drucker_prager"; }
+
+  // The initial stress is taken as given (a geostatic state outside the cone is returned to
+  // it by the first update).
+  void initialise(const std::vector<Mat3>& initial_stress,
+                  std::vector<PointResponse>& out) override {
+    sigma_ = initial_stress;
+    out.resize(sigma_.size());
+    for (std::size_t i = 0; i < sigma_.size(); ++i) fill(i, out[i]);
+  }
+
+  // sigma_p <- DruckerPragerLaw::update(sigma_p, dF_p) for every point (independent points:
+  // parallel like linear_elastic).
+  void update(const std::vector<Mat3>& dF, double /*dt*/, std::int64_t /*step*/, double /*time*/,
+              std::vector<PointResponse>& out) override {
+    if (dF.size() != sigma_.size()) {
+      throw std::logic_error("drucker_prager: update with " + std::to_string(dF.size()) +
+                             " dF for " + std::to_string(sigma_.size()) + " points");
+    }
+    out.resize(sigma_.size());
+    const auto n = static_cast<std::ptrdiff_t>(sigma_.size());
+#pragma omp parallel for schedule(static) if (n > kParallelMin)
+    for (std::ptrdiff_t p = 0; p < n; ++p) {
+      const auto i = static_cast<std::size_t>(p);
+      sigma_[i] = law_.update(sigma_[i], dF[i]);
+      fill(i, out[i]);
+    }
+  }
+
+ private:
+  void fill(std::size_t i, PointResponse& r) const {
+    r.stress = sigma_[i];
+    r.stiffness = law_.constrained_modulus();
+    r.status = static_cast<std::int32_t>(protocol::RveStatus::kOk);
+  }
+
+  DruckerPragerLaw law_;
+  std::vector<Mat3> sigma_;
+};
+
+}  // namespace
+
+std::unique_ptr<ConstitutiveProvider> make_drucker_prager(const ConstitutiveParams& params) {
+  return std::make_unique<DruckerPragerProvider>(DruckerPragerLaw(params));
+}
+
+}  // namespace mpmdem::mpm

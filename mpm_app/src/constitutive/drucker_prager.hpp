@@ -1,0 +1,89 @@
+// The `drucker_prager` provider: local, in-process elastic-perfectly plastic Drucker-Prager
+// model fitted to Mohr-Coulomb, the phenomenological (continuum) counterpart of the
+// multiscale model. It owns one Cauchy stress per point.
+//
+// Notation: stress tension positive; p = -tr(sigma)/3 (pressure, compression positive),
+// s = sigma + p I, q = sqrt(3/2 s:s); K bulk and G shear modulus from E and nu.
+//   yield      f = q - eta p - xi c            (a cone in principal stress space)
+//   potential  g = q - eta_g p                 (eta_g from the dilation angle psi)
+// Flow n = dg/dsigma = 3 s / (2 q) + eta_g / 3 I: a plastic increment dlambda n changes the
+// volume by eta_g dlambda (dilation for psi > 0) and, for psi = 0, keeps it.
+//
+// Fit to Mohr-Coulomb (phi, psi, c), selected by `matching`:
+//   compression  (default) the cone passes through the compression corners of the
+//                Mohr-Coulomb pyramid: the two models agree in triaxial compression,
+//                q / p = eta = 6 sin(phi) / (3 - sin(phi)),  xi = 6 cos(phi) / (3 - sin(phi)),
+//                eta_g = 6 sin(psi) / (3 - sin(psi)). Stronger than Mohr-Coulomb everywhere
+//                else (in triaxial extension by (3 + sin phi)/(3 - sin phi)).
+//   plane_strain the two models give the same limit load in plane strain (out-of-plane
+//                plastic strain zero with the potential above; derivation in
+//                docs/configuration.md):
+//                eta = 3 sin(phi) sqrt(3 + sin^2 psi) / (3 + sin(phi) sin(psi)),
+//                eta_g = 3 sin(psi) / sqrt(3 + sin^2 psi) (the same formula with phi = psi),
+//                e.g. eta = sqrt(3) sin(phi) for psi = 0.
+//   In both xi = eta cot(phi): the apex is Mohr-Coulomb's, at p = -c cot(phi). That apex is
+//   the tension cutoff: a cohesionless material (c = 0) carries no tension at all.
+//
+// Update for one increment dF: the objective update of elastic_law.hpp with a return
+// mapping inserted before the rotation. With dF = dR dU and the Hencky increment
+// d_eps = log(dU),
+//   sigma_trial = sigma + lambda tr(d_eps) I + 2 mu d_eps,
+//   sigma_new   = dR return_map(sigma_trial) dR^T.
+// The return map is isotropic, so it commutes with the rotation: a rigid rotation rotates
+// the stress exactly and leaves f unchanged, and the small-strain return below is applied to
+// a co-rotated stress (exact for large rotations; the strain increment of a step is small).
+//
+// Return mapping, closed form (perfect plasticity: the cone does not move):
+//   f_trial <= 0: elastic, sigma = sigma_trial;
+//   cone:  dlambda = f_trial / (3 G + eta eta_g K),
+//          q = q_trial - 3 G dlambda,  p = p_trial + K eta_g dlambda,  s = s_trial q / q_trial,
+//          valid while q >= 0;
+//   apex:  otherwise sigma = -p_apex I with p_apex = -c cot(phi) (0 for c = 0).
+// The result satisfies f = 0 to round-off. Below yield the stress equals linear_elastic's
+// (same kinematics and moduli; bit-identical in the GCC Release build; tested to 1e-12).
+#pragma once
+
+#include <Eigen/Core>
+#include <memory>
+
+#include "constitutive/provider.hpp"
+#include "scene.hpp"
+
+namespace mpmdem::mpm {
+
+class DruckerPragerLaw {
+ public:
+  // Throws std::invalid_argument unless E > 0, -1 < nu < 0.5, 0 < phi < 90 deg,
+  // 0 <= psi <= phi and c >= 0.
+  explicit DruckerPragerLaw(const ConstitutiveParams& params);
+
+  double bulk_modulus() const { return K_; }
+  double shear_modulus() const { return G_; }
+  // K + 4 G / 3, the stiffness returned for the CFL step.
+  double constrained_modulus() const { return K_ + 4.0 * G_ / 3.0; }
+  double eta() const { return eta_; }
+  double eta_g() const { return eta_g_; }
+  double xi() const { return xi_; }
+  // Pressure of the apex, -c cot(phi) [Pa].
+  double apex_pressure() const { return p_apex_; }
+
+  // f(sigma) = q - eta p - xi c [Pa]; <= 0 on or inside the cone.
+  double yield_function(const Mat3& sigma) const;
+  // Closed-form return of a trial stress onto the cone or its apex (identity if inside).
+  Mat3 return_map(const Mat3& sigma_trial) const;
+  // Objective update over one increment dF (see the file comment).
+  Mat3 update(const Mat3& sigma, const Mat3& dF) const;
+  // Elastic strain energy density 1/2 sigma : C^-1 : sigma [J/m^3] (for perfect plasticity
+  // the elastic strain is C^-1 : sigma).
+  double strain_energy_density(const Mat3& sigma) const;
+
+ private:
+  double E_, nu_, K_, G_, lambda_;
+  double eta_, eta_g_, xi_, c_, p_apex_;
+};
+
+// Reads youngs_modulus, poisson_ratio, friction_angle_deg, dilation_angle_deg, cohesion and
+// matching of params.
+std::unique_ptr<ConstitutiveProvider> make_drucker_prager(const ConstitutiveParams& params);
+
+}  // namespace mpmdem::mpm

@@ -1,0 +1,191 @@
+// The column collapse with the local Drucker-Prager model (configs/column_collapse_mc.yaml,
+// 240 points, < 1 s per run): conservation, dissipation, a deposit at rest inside the domain,
+// runout and height in the published bands, the friction angle's effect, and checkpoints from
+// which a resumed run ends in exactly the uninterrupted state.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "analysis/column_collapse.hpp"
+#include "config/scene_loader.hpp"
+#include "output/checkpoint.hpp"
+#include "run_driver.hpp"
+
+using namespace mpmdem::mpm;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct TempDir {
+  explicit TempDir(const std::string& tag) {
+    path = fs::temp_directory_path() / ("mpmdem_column_" + tag + "_" + std::to_string(::getpid()));
+    fs::remove_all(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+  std::string str() const { return path.string(); }
+  fs::path path;
+};
+
+Scene mc_scene() {
+  return load_scene(std::string(MPMDEM_SOURCE_DIR) + "/configs/column_collapse_mc.yaml");
+}
+
+struct ColumnRun {
+  RunResult result;
+  Particles final_state;
+  std::vector<std::vector<double>> energies;  // time, step, dt, E_p, E_k, E_d, E_strain, E_p0
+};
+
+ColumnRun run(const Scene& scene, const std::string& dir, const std::string& resume = "") {
+  ColumnRun r;
+  std::ostringstream sink;
+  RunOptions o;
+  o.out_dir = dir;
+  o.threads = 1;
+  o.handle_signals = false;
+  o.out = &sink;
+  o.err = &sink;
+  o.force = true;
+  o.resume = resume;
+  o.final_particles = &r.final_state;
+  r.result = run_scene(scene, o);
+  std::ifstream in(dir + "/energies.csv");
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    std::vector<double> row;
+    std::stringstream ss(line);
+    std::string cell;
+    while (std::getline(ss, cell, ',')) row.push_back(std::stod(cell));
+    r.energies.push_back(row);
+  }
+  return r;
+}
+
+double figure(const RunSummary& s, const std::string& key) {
+  for (const auto& [k, v] : s.analysis)
+    if (k == key) return v;
+  ADD_FAILURE() << "summary has no " << key;
+  return NAN;
+}
+
+}  // namespace
+
+TEST(ColumnCollapse, LocalModelConservesMassDissipatesAndSettlesInTheBands) {
+  TempDir dir("mc");
+  const Scene scene = mc_scene();
+  const ColumnRun r = run(scene, dir.str());
+  ASSERT_EQ(r.result.exit_code, 0);
+  const RunSummary& s = r.result.summary;
+  // Mass: m_p never changes and no point may leave.
+  EXPECT_EQ(s.removed_points, 0u);
+  EXPECT_EQ(s.mass_final_kg, s.mass_initial_kg);
+  const Grid grid(scene.grid);
+  for (const auto& x : r.final_state.x) ASSERT_TRUE(grid.contains(x)) << x.transpose();
+  // Stage 1 ended by its own rule, stage 2 lasted 6 t*.
+  const ColumnGeometry g = column_geometry(scene);
+  EXPECT_NEAR(figure(s, "t_star_s"), std::sqrt(1.32 / 9.81), 1e-12);
+  const double t_r = figure(s, "stage1_time_s");
+  EXPECT_GE(t_r, 0.05);
+  EXPECT_LE(t_r, 0.5);
+  EXPECT_NEAR(figure(s, "time_over_t_star_final"), 6.0, 0.01);
+  // Dissipation: E_d (from the base, E_p0 at the release) never negative and never
+  // decreasing by more than 1% of E_p0 (E_d also holds the elastic energy, which oscillates).
+  const double Ep0 = figure(s, "Ep0_release_J");
+  double Ed_prev = 0.0, Ed_max = 0.0;
+  for (const auto& row : r.energies) {
+    if (row[0] < t_r) continue;
+    const double Ed = Ep0 - row[3] - row[4];  // E_p of the CSV is from z = 0 = the base here
+    EXPECT_GE(Ed, -0.01 * Ep0) << "t = " << row[0];
+    EXPECT_GE(Ed, Ed_prev - 0.01 * Ep0) << "t = " << row[0];
+    Ed_prev = Ed;
+    Ed_max = std::max(Ed_max, Ed);
+  }
+  EXPECT_GT(Ed_max, 0.3 * Ep0);
+  // At rest at 6 t*.
+  EXPECT_LT(figure(s, "Ek_over_Ep0_final"), 1e-4);
+  // Runout and height in the bands of the published laws (shared/notes/validation.md):
+  // dL/L_i 2.88-4.32, H_f/L_i = a^(1/3)..a^(2/5) (0.74-0.78 m), with 10% on the height for a
+  // 0.11 m grid; E_d/E_p0 within the geometric bounds of the deposit.
+  const double dL = figure(s, "runout_normalized");
+  EXPECT_GE(dL, 2.88);
+  EXPECT_LE(dL, 4.32);
+  const double H_f = figure(s, "final_height_m");
+  EXPECT_GE(H_f, 0.9 * g.L_i * std::pow(2.4, 1.0 / 3.0));
+  EXPECT_LE(H_f, 1.1 * g.L_i * std::pow(2.4, 0.4));
+  const double ed = figure(s, "Ed_over_Ep0_final");
+  EXPECT_GE(ed, 1.0 - H_f / g.H_i - 0.02);
+  EXPECT_LE(ed, 1.0 - g.L_i / figure(s, "runout_m") + 0.02);
+}
+
+TEST(ColumnCollapse, HigherFrictionRunsOutLessAndStandsTaller) {
+  TempDir d20("phi20"), d35("phi35");
+  Scene low = mc_scene();
+  Scene high = mc_scene();
+  high.constitutive.friction_angle_deg = 35.0;
+  const ColumnRun a = run(low, d20.str());
+  const ColumnRun b = run(high, d35.str());
+  ASSERT_EQ(a.result.exit_code, 0);
+  ASSERT_EQ(b.result.exit_code, 0);
+  EXPECT_LT(figure(b.result.summary, "runout_m"), figure(a.result.summary, "runout_m") - 0.1);
+  EXPECT_GT(figure(b.result.summary, "final_height_m"), figure(a.result.summary, "final_height_m"));
+  EXPECT_LT(figure(b.result.summary, "Ed_over_Ep0_final"),
+            figure(a.result.summary, "Ed_over_Ep0_final"));
+}
+
+TEST(ColumnCollapse, ResumedRunEndsInExactlyTheUninterruptedState) {
+  TempDir full("full"), part("part");
+  Scene scene = mc_scene();
+  scene.output.checkpoint_interval_steps = 700;
+  scene.output.checkpoints_kept = 10;
+  const ColumnRun a = run(scene, full.str());
+  ASSERT_EQ(a.result.exit_code, 0);
+  // Continue a copy from a checkpoint in stage 2 (the constraint released, snapshot 1 done).
+  fs::copy(full.path, part.path, fs::copy_options::recursive);
+  const std::string ckpt = checkpoint_directory(part.str(), 1400);
+  ASSERT_TRUE(fs::exists(ckpt + "/COMPLETE"));
+  EXPECT_EQ(latest_checkpoint(part.str()),
+            checkpoint_directory(part.str(), 700 * (a.result.summary.steps / 700)));
+  const ColumnRun b = run(scene, part.str(), ckpt);
+  ASSERT_EQ(b.result.exit_code, 0);
+  ASSERT_EQ(a.final_state.size(), b.final_state.size());
+  for (std::size_t q = 0; q < a.final_state.size(); ++q) {
+    ASSERT_EQ(a.final_state.x[q], b.final_state.x[q]) << "point " << q;
+    ASSERT_EQ(a.final_state.v[q], b.final_state.v[q]) << "point " << q;
+    ASSERT_EQ(a.final_state.sigma[q], b.final_state.sigma[q]) << "point " << q;
+  }
+  EXPECT_EQ(a.result.summary.steps, b.result.summary.steps);
+  EXPECT_EQ(figure(a.result.summary, "runout_m"), figure(b.result.summary, "runout_m"));
+  EXPECT_EQ(figure(a.result.summary, "stage1_time_s"), figure(b.result.summary, "stage1_time_s"));
+  // The energy log of the resumed run is the uninterrupted one, row for row.
+  EXPECT_EQ(a.energies, b.energies);
+}
+
+TEST(ColumnCollapse, SceneErrorsNameTheKey) {
+  const std::string base = std::string(MPMDEM_SOURCE_DIR) + "/configs/column_collapse_mc.yaml";
+  std::ifstream in(base);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::string text = ss.str();
+  const auto bad = text.replace(text.find("release_constraint: lateral_face"),
+                                std::string("release_constraint: lateral_face").size(),
+                                "release_constraint: nope");
+  TempDir dir("bad");
+  fs::create_directories(dir.path);
+  const std::string file = dir.str() + "/bad.yaml";
+  std::ofstream(file) << bad;
+  try {
+    (void)load_scene(file);
+    FAIL() << "a release_constraint naming no constraint was accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("column_collapse"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("'nope'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(file), std::string::npos) << e.what();
+  }
+}

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <fstream>
 #include <iostream>
 #include <mutex>
 #include <thread>
@@ -124,6 +125,44 @@ class IdleWatchdog {
   std::thread thread_;
 };
 
+// Resident set size and its peak [MB] of this process, from /proc/self/status (0 elsewhere).
+void memory_mb(double& rss, double& peak) {
+  rss = peak = 0.0;
+  std::ifstream f("/proc/self/status");
+  std::string key;
+  double kb = 0.0;
+  while (f >> key) {
+    if (key == "VmRSS:" && f >> kb) rss = kb / 1024.0;
+    if (key == "VmHWM:" && f >> kb) peak = kb / 1024.0;
+  }
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+// One line per rank at the end: per-step cost of kStep exchanges (scripts/bench_dem reads it).
+// compute = backend->step(); exchange = receive + compute + send (after the header arrived).
+void print_timing(int rank, std::size_t n_rve, const std::vector<double>& compute,
+                  const std::vector<double>& exchange) {
+  if (compute.empty()) return;
+  double rss = 0.0, peak = 0.0;
+  memory_mb(rss, peak);
+  double total = 0.0;
+  for (double t : compute) total += t;
+  const double per = n_rve ? 1e3 / static_cast<double>(n_rve) : 0.0;
+  std::fprintf(stderr,
+               "dem_app: timing rank %d: %zu steps, %zu RVEs, compute per step median %.4f ms "
+               "mean %.4f ms, per RVE-step median %.4f ms; exchange per step median %.4f ms; "
+               "RSS %.1f MB, peak %.1f MB\n",
+               rank, compute.size(), n_rve, 1e3 * median(compute),
+               1e3 * total / static_cast<double>(compute.size()), per * median(compute),
+               1e3 * median(exchange), rss, peak);
+  std::fflush(stderr);
+}
+
 void fail_all(std::vector<RveReply>& replies) {
   for (auto& reply : replies) {
     std::memset(&reply, 0, sizeof reply);
@@ -173,11 +212,13 @@ int serve(const ServerOptions& opts, const BackendMaker& make_backend) {
   ControlHeader header;
   std::int64_t steps = 0;
   IdleWatchdog idle(opts.idle_timeout_s, root);
+  std::vector<double> step_compute_s, step_exchange_s;  // per kStep exchange (timing line)
   for (;;) {
     idle.arm();
     const bool more = channel.next(header);
     idle.disarm();
     if (!more) break;
+    const double t_exchange = now_s();
     RankReport report = make_report(ctx.rank);
     const auto kind = static_cast<MessageKind>(header.kind);
     // O_I: this rank's part of the payload.
@@ -225,7 +266,12 @@ int serve(const ServerOptions& opts, const BackendMaker& make_backend) {
     } else {
       channel.send(replies, report);
     }
+    if (kind == MessageKind::kStep) {
+      step_compute_s.push_back(report.compute_s);
+      step_exchange_s.push_back(now_s() - t_exchange);
+    }
   }
+  print_timing(ctx.rank, ctx.n_rve, step_compute_s, step_exchange_s);
 
   // Shutdown or Abort: both sides disconnect.
   const bool aborted = channel.aborted();

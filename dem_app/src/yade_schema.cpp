@@ -56,8 +56,9 @@ void add_yade_keys(config::Schema& s) {
             .def("10")
             .gt(0));
   s.add(key("coupling.yade.stiffness", Type::kEnum, "",
-            "stiffness estimate returned: tangent (max C_iiii of utils.getStressAndTangent) or "
-            "none (0: the client uses its own bound)")
+            "stiffness estimate returned: tangent (an upper bound of the constrained modulus "
+            "built from utils.getStressAndTangent, at least the affine one: "
+            "docs/dem_backend.md) or none (0: the client uses its own bound)")
             .def("tangent")
             .one_of({"tangent", "none"}));
   s.add(key("coupling.yade.consolidation_tol", Type::kDouble, "-",

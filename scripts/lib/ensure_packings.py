@@ -7,10 +7,12 @@ Reads coupling.backend, coupling.yade.packing_dir, .packings and .packing_spec (
 relative to the scene file's folder unless absolute). Nothing to do for other backends, for
 inline packings (empty packing_dir) or when every <packing_dir>/<name>.yade.bz2 exists.
 Otherwise runs scripts/build_packings --config <packing_spec> --out <packing_dir> and checks
-that it produced every packing the scene names.
+that it produced every packing the scene names. The spec's SHA-256 is kept in
+<packing_dir>/.spec_sha256: when the spec changes, the packings are rebuilt.
 Exit codes: 0 ready, 2 the scene names packings that are missing and cannot be built (the
 message says which key to change), 1 the builder failed.
 """
+import hashlib
 import os
 import subprocess
 import sys
@@ -39,9 +41,19 @@ def main(scene):
         return 0
     pdir = os.path.normpath(os.path.join(base, pdir))
     missing = [n for n in names if not os.path.exists(os.path.join(pdir, n + ".yade.bz2"))]
+    spec = yade.get("packing_spec") or ""
+    digest, stamp = None, os.path.join(pdir, ".spec_sha256")
+    if spec:
+        spec_path = os.path.normpath(os.path.join(base, spec))
+        if os.path.exists(spec_path):
+            digest = hashlib.sha256(open(spec_path, "rb").read()).hexdigest()
+            old = open(stamp).read().strip() if os.path.exists(stamp) else None
+            if not missing and old != digest:
+                print(f"ensure_packings: {spec_path} changed since {pdir} was built: rebuilding",
+                      flush=True)
+                missing = list(names)
     if not missing:
         return 0
-    spec = yade.get("packing_spec") or ""
     if not spec:
         fail(f"coupling.yade.packings {missing} are not in coupling.yade.packing_dir {pdir} "
              f"({scene}), and coupling.yade.packing_spec is empty: build them with "
@@ -61,6 +73,9 @@ def main(scene):
     if still:
         fail(f"{spec} did not produce {still} that coupling.yade.packings names ({scene}); "
              "make the spec's item names and copies match")
+    if digest:
+        with open(stamp, "w") as f:
+            f.write(digest + "\n")
     return 0
 
 

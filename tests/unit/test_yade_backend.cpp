@@ -1,13 +1,16 @@
 // YADE backend on two small in-place packings (40 spheres): exact cell deformation despite
-// YADE's one-step velGrad lag, consolidation to RveInit's stress, lost contacts, checkpoint.
+// YADE's one-step velGrad lag, consolidation to RveInit's stress, lost contacts, checkpoint,
+// the stiffness estimate against the measured constrained modulus.
 #include <gtest/gtest.h>
 
 #ifdef MPMDEM_HAVE_YADE
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <random>
@@ -77,6 +80,20 @@ class YadeBackend : public ::testing::Test {
     return m;
   }
 
+  // Measured constrained modulus of local RVE k along `axis` (mpmdem_rve.probe_modulus: two
+  // copies of the scene get dF = I -+ eps e_axis e_axis over ns substeps).
+  static double probe_modulus(int k, int axis, int ns, double eps = 1e-5) {
+    PyObject* mod = PyImport_ImportModule("mpmdem_rve");
+    PyObject* sets = PyObject_GetAttrString(mod, "_sets");
+    PyObject* m =
+        PyObject_CallMethod(PyList_GetItem(sets, 0), "probe_modulus", "idii", k, eps, ns, axis);
+    const double v = m ? PyFloat_AsDouble(m) : std::nan("");
+    Py_XDECREF(m);
+    Py_DECREF(sets);
+    Py_DECREF(mod);
+    return v;
+  }
+
   static inline std::unique_ptr<config::Config> cfg_;
   static inline std::unique_ptr<dem::RveBackend> backend_;
   static inline RveReply init_reply_[2];
@@ -98,6 +115,36 @@ TEST_F(YadeBackend, InitialStateIsConsolidatedToRveInitPressure) {
     EXPECT_EQ(r.unbalanced_force, 0.0);
     EXPECT_EQ(r.rotation[0], 0.0);
   }
+}
+
+// The stiffness in the replies is for the MPM's critical time step: it must not be below the
+// RVE's incremental constrained modulus d sigma_ii / d eps_ii, neither at the coupling rate
+// (ns = 10 substeps for 1e-5: nearly affine, the stiffest response) nor quasi-statically
+// (ns = 400: several wave crossings), and should not be a useless bound (< 10x). Runs on the
+// freshly consolidated RVE (defined before the tests that deform it): the probes work on
+// copies and leave the RVE untouched.
+TEST_F(YadeBackend, StiffnessBoundsMeasuredConstrainedModulus) {
+  RveRequest req[2] = {};
+  req[0].flags = req[1].flags = protocol::kFlagQueryOnly;
+  RveReply reply[2];
+  protocol::ControlHeader h{};
+  backend_->step(h, req, reply);
+  ASSERT_EQ(reply[0].status, 0);
+  const double M = reply[0].stiffness;
+  double fast_max = 0.0, slow_max = 0.0;
+  for (int axis = 0; axis < 3; ++axis) {
+    const double fast = probe_modulus(0, axis, 10);
+    const double slow = probe_modulus(0, axis, 400);
+    ASSERT_TRUE(std::isfinite(fast) && std::isfinite(slow)) << "probe failed, axis " << axis;
+    EXPECT_GT(slow, 0.0) << "axis " << axis;
+    EXPECT_GE(M, fast) << "axis " << axis << ": stiffness below the response at ns = 10";
+    EXPECT_GE(M, slow) << "axis " << axis << ": stiffness below the quasi-static response";
+    fast_max = std::max(fast_max, fast);
+    slow_max = std::max(slow_max, slow);
+  }
+  EXPECT_LT(M, 10.0 * slow_max) << "bound " << M << " vs quasi-static modulus " << slow_max;
+  std::printf("stiffness %.4g Pa; measured max over axes: ns=10 %.4g, ns=400 %.4g\n", M, fast_max,
+              slow_max);
 }
 
 TEST_F(YadeBackend, CellTransformationEqualsProductOfIncrements) {

@@ -47,7 +47,7 @@ class RveSet:
         self.y = pk._import_yade()
         self.ids = list(range(params["first_rve"], params["first_rve"] + params["n_rve"]))
         self.scenes = []  # YADE scene index per RVE
-        self._dmax = {}  # largest sphere diameter per RVE (thin-cell check)
+        self._dmax = {}  # largest sphere diameter per RVE (cell regularisation)
         self.state = []  # per RVE: dict(trsf0, pending, step, p0, packing)
         self.step_no = 0
 
@@ -85,10 +85,9 @@ class RveSet:
         y = self.y
         O = y.O
         O.engines = pk.engines(y, self.p["damping"], with_triax)
-        # A strongly stretched cell (the spreading front of a column: F_zz ~ 0.5) can get
-        # thinner than two sphere diameters, which the collider refuses. Let it continue
-        # (contacts with a second periodic image of the same sphere are then missed) and
-        # warn once per RVE (_check_thin_cell): the cure is more spheres per RVE.
+        # Cells are kept thick enough by tiling (_regularise_cell, every 10th step); between
+        # two checks a fast-thinning cell may still dip below two diameters for a few steps:
+        # let the collider continue then instead of stopping the run.
         O.engines[1].allowBiggerThanPeriod = True
 
     def _stress_and_stiffness(self, want_stiffness):
@@ -255,39 +254,70 @@ class RveSet:
                 status = NON_FINITE
             elif ke / O.cell.volume > self.p["ke_threshold"] * s["p0"]:
                 status = EXPLODING
-            self._check_thin_cell(k, gid)
+            self._regularise_cell(k, gid)
             r, status = self._reply(k, out, status, ns)
             out.extend(r)
             if status in (NON_FINITE, EXPLODING):
                 faults.append(self._fault(gid, status, " (kinetic energy %g J)" % ke))
         return struct.pack("%dd" % len(out), *out), faults
 
-    def _check_thin_cell(self, k, gid):
-        """Warn (once per RVE, stderr) when the cell's smallest height is below two of its
-        largest sphere diameters."""
-        thin = getattr(self, "_thin", None)
-        if thin is None:
-            thin = self._thin = {}
-        if gid in thin or self.step_no % 10:  # every 10th step: ~20 us of Python each
+    TILE_HEIGHT = 2.2  # in largest sphere diameters: below this the cell is tiled
+
+    def _regularise_cell(self, k, gid):
+        """Keep the periodic cell at least TILE_HEIGHT largest diameters high along every
+        lattice direction. The MPM may stretch an element a lot (a spreading column flattens
+        its elements to F_zz ~ 0.3): a cell thinner than two diameters is refused by YADE's
+        collider, or (allowBiggerThanPeriod) misses contacts with a second image and loses
+        its stress. Tiling the packing along the thin lattice vector (every sphere copied one
+        period further, the period doubled) is an exact change of the periodic unit: same
+        state, same stress, twice the spheres. Contacts are rebuilt by the collider, which
+        resets their tangential forces (a small transient). Checked every 10th step (~20 us)."""
+        if self.step_no % 10:
             return
-        O = self.y.O
+        y = self.y
+        O = y.O
         h = O.cell.hSize
         cols = [h.col(i) for i in range(3)]
         vol = abs(h.determinant())
-        height = min(vol / cols[(i + 1) % 3].cross(cols[(i + 2) % 3]).norm() for i in range(3))
+        heights = [vol / cols[(i + 1) % 3].cross(cols[(i + 2) % 3]).norm() for i in range(3)]
+        i = min(range(3), key=lambda a: heights[a])
         dmax = self._dmax.get(gid)
         if dmax is None:
             dmax = self._dmax[gid] = 2.0 * max(b.shape.radius for b in O.bodies)
-        if height < 2.0 * dmax:
-            thin[gid] = self.step_no
-            import sys
+        if heights[i] >= self.TILE_HEIGHT * dmax:
+            return
+        shift = cols[i]
+        trsf = y.Matrix3(O.cell.trsf)
+        L = y.Matrix3(O.cell.velGrad)
+        copies = []
+        for b in list(O.bodies):
+            c = y.utils.sphere(b.state.pos + shift, b.shape.radius, material=b.material)
+            c.state.vel = b.state.vel + L * shift
+            c.state.angVel = b.state.angVel
+            c.state.ori = b.state.ori
+            c.state.refOri = b.state.refOri
+            c.state.refPos = b.state.refPos + shift
+            copies.append(c)
+        O.interactions.clear()
+        O.bodies.append(copies)
+        hs = y.Matrix3(h)
+        for r in range(3):
+            hs[r, i] = 2.0 * h[r, i]
+        O.cell.hSize = hs
+        O.cell.trsf = trsf
+        self.tilings = getattr(self, "tilings", 0) + 1
+        import sys
 
-            sys.stderr.write(
-                "dem_app: warning: RVE %d at step %d: periodic cell height %.3g m < 2 x largest "
-                "diameter %.3g m (cell stretched by the MPM); contacts with a second periodic "
-                "image are missed from now on; use more spheres per RVE\n"
-                % (gid, self.step_no, height, dmax))
-            sys.stderr.flush()
+        sys.stderr.write(
+            "dem_app: RVE %d at step %d: cell %.3g m high along lattice vector %d (< %.1f "
+            "largest diameters): packing tiled, %d spheres now\n"
+            % (gid, self.step_no, heights[i], i, self.TILE_HEIGHT, len(O.bodies)))
+        sys.stderr.flush()
+
+    def n_spheres(self, k):
+        """Spheres in local RVE k (grows when its cell is tiled)."""
+        self.y.O.switchToScene(self.scenes[k])
+        return len(self.y.O.bodies)
 
     def trsf(self, k):
         """Cell transformation of local RVE k relative to its start: trsf * trsf0^-1."""

@@ -260,12 +260,16 @@ int serve(const ServerOptions& opts, const BackendMaker& make_backend) {
     }
     report.compute_s = now_s() - t0;
 
-    // O_F: answer.
+    // O_F: answer. The replies are gathered with a non-blocking collective that needs the
+    // client's progress: a killed client would leave the rank waiting here, so the idle
+    // watchdog covers this wait too.
+    idle.arm();
     if (kind == MessageKind::kCheckpoint) {
       channel.send_report(report);
     } else {
       channel.send(replies, report);
     }
+    idle.disarm();
     if (kind == MessageKind::kStep) {
       step_compute_s.push_back(report.compute_s);
       step_exchange_s.push_back(now_s() - t_exchange);

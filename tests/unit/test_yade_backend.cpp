@@ -168,6 +168,36 @@ TEST_F(YadeBackend, CellTransformationEqualsProductOfIncrements) {
   EXPECT_EQ(reply[1].n_substeps, 0);  // query only
 }
 
+// A strong isochoric stretch (F_zz -> 0.45) thins the cell below 2.2 diameters: the packing
+// must be tiled (more spheres), keep its contacts and stress, and the cell must still follow
+// the product of the increments exactly.
+TEST_F(YadeBackend, ThinCellIsTiledAndStaysExact) {
+  PyObject* mod = PyImport_ImportModule("mpmdem_rve");
+  PyObject* sets = PyObject_GetAttrString(mod, "_sets");
+  auto spheres = [&] {
+    PyObject* n = PyObject_CallMethod(PyList_GetItem(sets, 0), "n_spheres", "i", 0);
+    const long v = n ? PyLong_AsLong(n) : -1;
+    Py_XDECREF(n);
+    return v;
+  };
+  const long before = spheres();
+  const Mat dF = {1.01, 0, 0, 0, 1, 0, 0, 0, 1 / 1.01};
+  Mat product = trsf(0);
+  RveReply reply[2];
+  for (int s = 1; s <= 80; ++s) {
+    product = mul(dF, product);
+    step(dF, nullptr, reply, s);
+    ASSERT_NE(reply[0].status, static_cast<int>(protocol::RveStatus::kBackendError));
+    const Mat t = trsf(0);
+    for (int i = 0; i < 9; ++i) ASSERT_NEAR(t[i], product[i], 1e-10) << "step " << s;
+  }
+  EXPECT_GE(spheres(), 2 * before);
+  EXPECT_EQ(reply[0].status, static_cast<int>(protocol::RveStatus::kOk));
+  EXPECT_LT(reply[0].stress[8], 0.0);  // still a compressed contact network
+  Py_DECREF(sets);
+  Py_DECREF(mod);
+}
+
 TEST_F(YadeBackend, RestoreReproducesStressesAfterCheckpoint) {
   const auto dir = std::filesystem::temp_directory_path() / "mpmdem_yade_ckpt_test";
   std::filesystem::remove_all(dir);

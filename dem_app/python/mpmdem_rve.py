@@ -194,7 +194,7 @@ class RveSet:
             self.state.append({"trsf0": [t[i, j] for i in range(3) for j in range(3)],
                                "pending": [0.0] * 9, "packing": name,
                                "p0": max(abs(sum(goal) / 3.0), 1.0)})
-            r, status = self._reply(k, out, OK, 0)
+            r, status = self._reply(k, out, OK, len(O.bodies))  # protocol 1.1: particles
             out.extend(r)
             if status in (NON_FINITE, EXPLODING):
                 faults.append(self._fault(gid, status, ""))

@@ -298,6 +298,10 @@ class Run {
     return true;
   }
 
+  std::int64_t rve_particles() const {
+    return resume_dir_.empty() ? solver_->provider().rve_particles() : resumed_.rve_particles;
+  }
+
   // Both sides save their state; the checkpoint counts once both are done (COMPLETE).
   void write_checkpoint() {
     const std::string dir = checkpoint_directory(dir_, solver_->step_count());
@@ -318,6 +322,7 @@ class Run {
     d.dt_min_s = s().dt_min_s;
     d.dt_max_s = s().dt_max_s;
     d.mass_initial_kg = s().mass_initial_kg;
+    d.rve_particles = rve_particles();
     write_mpm_checkpoint(dir, solver_->state(), d);
     solver_->provider().checkpoint(dir + "/dem", solver_->step_count());
     commit_checkpoint(dir_, dir, scene_.output.checkpoints_kept);
@@ -583,6 +588,7 @@ class Run {
     sum.analysis.clear();
     if (column_) sum.analysis = column_->figures(solver_->time(), p);
     if (scene_.constitutive.model == ModelKind::kRemote) {
+      sum.analysis.emplace_back("n_rve_particles", static_cast<double>(rve_particles()));
       sum.analysis.emplace_back("rve_no_contact_updates",
                                 static_cast<double>(solver_->no_contact_updates()));
       sum.analysis.emplace_back("rve_no_contact_points_final",

@@ -39,6 +39,7 @@ s = json.load(open(full + "/summary.json"))
 assert s["status"] == "complete", s
 assert s["mass_final_kg"] == s["mass_initial_kg"], "mass changed"
 assert s["removed_points"] == 0, "a point left the grid"
+assert s["n_rve_particles"] == 8 * 100, s["n_rve_particles"]  # 8 RVEs of 100 spheres
 t_r, ep0 = s["stage1_time_s"], s["Ep0_release_J"]
 assert 0.02 <= t_r <= 0.1 + 0.01, t_r
 worst = 0.0

@@ -21,7 +21,7 @@
 namespace mpmdem::protocol {
 
 inline constexpr std::uint16_t kVersionMajor = 1;
-inline constexpr std::uint16_t kVersionMinor = 0;
+inline constexpr std::uint16_t kVersionMinor = 1;  // 1.1: particles in kInitialise replies
 
 // "MPMD" in ASCII; a peer that reads another value speaks another protocol or byte order.
 inline constexpr std::uint32_t kMagic = 0x4D504D44u;
@@ -110,7 +110,8 @@ struct RveReply {
   double unbalanced_force;  // YADE's unbalancedForce() [-] if requested
   double stiffness;         // constrained (P-wave) modulus estimate for the CFL step [Pa]
   std::int32_t status;      // RveStatus
-  std::int32_t n_substeps;  // DEM substeps used (0 for closed-form backends)
+  std::int32_t n_substeps;  // kStep: DEM substeps used; kInitialise (since 1.1): particles in
+                            // the RVE; 0 for closed-form backends
 };
 
 // One per server rank after every exchange (MPI_Gather): errors and timing.

@@ -45,6 +45,8 @@ class ConstitutiveProvider {
     (void)dir;
     (void)step;
   }
+  // Particles in all RVEs at initialisation (remote; 0 for local models).
+  virtual std::int64_t rve_particles() const { return 0; }
   // Orderly end (remote: shutdown message).
   virtual void finish() {}
 };

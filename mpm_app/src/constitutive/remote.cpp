@@ -47,8 +47,13 @@ class RemoteProvider : public ConstitutiveProvider {
     for (std::size_t p = 0; p < init.size(); ++p) {
       Eigen::Map<RowMajor3>(init[p].stress) = initial_stress[p];
     }
-    to_responses(client_.initialise(init), out);
+    const auto replies = client_.initialise(init);
+    particles_ = 0;
+    for (const protocol::RveReply& r : replies) particles_ += r.n_substeps;
+    to_responses(replies, out);
   }
+
+  std::int64_t rve_particles() const override { return particles_; }
 
   void update(const std::vector<Mat3>& dF, double dt, std::int64_t step, double time,
               std::vector<PointResponse>& out) override {
@@ -106,6 +111,7 @@ class RemoteProvider : public ConstitutiveProvider {
   }
 
   RveClient client_;
+  std::int64_t particles_ = 0;
   std::vector<protocol::RveRequest> requests_;
   std::vector<protocol::RveReply> replies_;
 };

@@ -120,6 +120,7 @@ void write_mpm_checkpoint(const std::string& dir, const SolverState& s, const Dr
     f.attribute("dt_min_s", d.dt_min_s);
     f.attribute("dt_max_s", d.dt_max_s);
     f.attribute("mass_initial_kg", d.mass_initial_kg);
+    f.attribute("rve_particles", d.rve_particles);
     f.flush();
   }
   commit_file(tmp, path);
@@ -202,6 +203,7 @@ void read_mpm_checkpoint(const std::string& dir, SolverState& s, DriverState& d)
   d.dt_min_s = f.attribute_double("dt_min_s");
   d.dt_max_s = f.attribute_double("dt_max_s");
   d.mass_initial_kg = f.attribute_double("mass_initial_kg");
+  d.rve_particles = f.attribute_int64("rve_particles");
 }
 
 }  // namespace mpmdem::mpm

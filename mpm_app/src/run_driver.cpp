@@ -28,6 +28,7 @@
 #include "output/vtk_writer.hpp"
 #include "particle_init.hpp"
 #include "progress.hpp"
+#include "run_support.hpp"
 #include "solver.hpp"
 #include "verification/bar_vibration.hpp"
 #include "verification/elastic_column.hpp"
@@ -36,121 +37,7 @@ namespace mpmdem::mpm {
 
 namespace {
 
-volatile std::sig_atomic_t g_stop = 0;
-
-extern "C" void on_stop_signal(int sig) {
-  if (g_stop) {  // second signal: stop at once
-    std::signal(sig, SIG_DFL);
-    std::raise(sig);
-    return;
-  }
-  g_stop = 1;
-}
-
-// SIGINT/SIGTERM ask the run to stop after the current step, for the run's duration.
-class SignalGuard {
- public:
-  explicit SignalGuard(bool active) : active_(active) {
-    if (!active_) return;
-    struct sigaction sa {};
-    sa.sa_handler = on_stop_signal;
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, &old_int_);
-    sigaction(SIGTERM, &sa, &old_term_);
-  }
-  ~SignalGuard() {
-    if (!active_) return;
-    sigaction(SIGINT, &old_int_, nullptr);
-    sigaction(SIGTERM, &old_term_, nullptr);
-  }
-  SignalGuard(const SignalGuard&) = delete;
-  SignalGuard& operator=(const SignalGuard&) = delete;
-
- private:
-  bool active_;
-  struct sigaction old_int_ {};
-  struct sigaction old_term_ {};
-};
-
-const char* model_name(ModelKind kind) {
-  switch (kind) {
-    case ModelKind::kRemote:
-      return "remote";
-    case ModelKind::kDruckerPrager:
-      return "drucker_prager";
-    case ModelKind::kLinearElastic:
-      break;
-  }
-  return "linear_elastic";
-}
-
-const char* verification_name(VerificationKind kind) {
-  switch (kind) {
-    case VerificationKind::kElasticColumn:
-      return "elastic_column";
-    case VerificationKind::kBarVibration:
-      return "bar_vibration";
-    case VerificationKind::kNone:
-      break;
-  }
-  return "";
-}
-
-double total_mass(const Particles& p) {
-  double m = 0.0;
-  for (double m_p : p.m) m += m_p;
-  return m;
-}
-
-bool finite(const Vec3& v) {
-  return v.allFinite();
-}
-bool finite(const Mat3& v) {
-  return v.allFinite();
-}
-bool finite(double v) {
-  return std::isfinite(v);
-}
-
-// Names the first non-finite value of the state, or returns "" if all are finite.
-std::string find_non_finite(const Particles& p) {
-  auto where = [&p](std::size_t i, const char* field) {
-    std::ostringstream msg;
-    msg << "non-finite " << field << " at material point " << p.id[i] << " (initial position "
-        << p.x0[i].transpose() << ")";
-    return msg.str();
-  };
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (!finite(p.x[i])) return where(i, "position");
-    if (!finite(p.v[i])) return where(i, "velocity");
-    if (!finite(p.sigma[i])) return where(i, "stress");
-    if (!finite(p.F[i])) return where(i, "deformation gradient");
-    if (!finite(p.V[i])) return where(i, "volume");
-    if (!finite(p.m[i])) return where(i, "mass");
-  }
-  return "";
-}
-
-// CPU time of the whole process (all threads) [s].
-double process_cpu_time() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
-std::string format_seconds(double s) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3e", s);
-  return buf;
-}
-
-}  // namespace
-
-void request_stop() {
-  g_stop = 1;
-}
-
-namespace {
+using namespace run_support;
 
 // One run: set-up, time loop, final outputs, summary. RunResult is filled as it goes.
 class Run {
@@ -167,7 +54,7 @@ class Run {
   }
 
   RunResult execute() {
-    g_stop = 0;
+    clear_stop_request();
     if (!set_up()) return result_;
     SignalGuard signals(opt_.handle_signals);
     try {
@@ -385,7 +272,7 @@ class Run {
     progress.start(solver_->time());
 
     while (!solver_->finished() && !(column_ && column_->done(solver_->time()))) {
-      if (g_stop) {
+      if (stop_requested()) {
         s().status = "interrupted";
         out_ << "stop requested: stopping after step " << solver_->step_count() << std::endl;
         break;

@@ -1,0 +1,42 @@
+// Helpers of the run driver (run_driver.cpp): the stop request set by SIGINT/SIGTERM, names
+// of the scene's enums as summary.json writes them, checks and clocks.
+#pragma once
+
+#include <csignal>
+#include <string>
+
+#include "particles.hpp"
+#include "scene.hpp"
+
+namespace mpmdem::mpm {
+
+namespace run_support {
+
+bool stop_requested();
+void clear_stop_request();
+
+// SIGINT/SIGTERM ask the run to stop after the current step, for the guard's lifetime.
+class SignalGuard {
+ public:
+  explicit SignalGuard(bool active);
+  ~SignalGuard();
+  SignalGuard(const SignalGuard&) = delete;
+  SignalGuard& operator=(const SignalGuard&) = delete;
+
+ private:
+  bool active_;
+  struct sigaction old_int_ {};
+  struct sigaction old_term_ {};
+};
+
+const char* model_name(ModelKind kind);
+const char* verification_name(VerificationKind kind);
+double total_mass(const Particles& p);
+// Names the first non-finite value of the state, or returns "" if all are finite.
+std::string find_non_finite(const Particles& p);
+// CPU time of the whole process (all threads) [s].
+double process_cpu_time();
+std::string format_seconds(double s);
+
+}  // namespace run_support
+}  // namespace mpmdem::mpm

@@ -17,26 +17,6 @@ namespace {
 
 constexpr const char* kComplete = "COMPLETE";
 
-template <int R, int C>
-std::vector<double> flatten(const std::vector<Eigen::Matrix<double, R, C>>& v) {
-  std::vector<double> out;
-  out.reserve(v.size() * R * C);
-  for (const auto& e : v)
-    for (int i = 0; i < R; ++i)
-      for (int j = 0; j < C; ++j) out.push_back(e(i, j));
-  return out;
-}
-
-template <int R, int C>
-std::vector<Eigen::Matrix<double, R, C>> unflatten(const std::vector<double>& flat, std::size_t n) {
-  std::vector<Eigen::Matrix<double, R, C>> out(n);
-  std::size_t k = 0;
-  for (auto& e : out)
-    for (int i = 0; i < R; ++i)
-      for (int j = 0; j < C; ++j) e(i, j) = flat[k++];
-  return out;
-}
-
 std::vector<std::int32_t> to_int32(const std::vector<char>& v) {
   return std::vector<std::int32_t>(v.begin(), v.end());
 }
@@ -82,15 +62,15 @@ void write_mpm_checkpoint(const std::string& dir, const SolverState& s, const Dr
     f.write("m", p.m, {n});
     f.write("V", p.V, {n});
     f.write("V0", p.V0, {n});
-    f.write("x", flatten(p.x), {n, 3});
-    f.write("x0", flatten(p.x0), {n, 3});
-    f.write("v", flatten(p.v), {n, 3});
-    f.write("F", flatten(p.F), {n, 3, 3});
-    f.write("dF", flatten(p.dF), {n, 3, 3});
-    f.write("sigma", flatten(p.sigma), {n, 3, 3});
+    f.write("x", h5::flatten(p.x), {n, 3});
+    f.write("x0", h5::flatten(p.x0), {n, 3});
+    f.write("v", h5::flatten(p.v), {n, 3});
+    f.write("F", h5::flatten(p.F), {n, 3, 3});
+    f.write("dF", h5::flatten(p.dF), {n, 3, 3});
+    f.write("sigma", h5::flatten(p.sigma), {n, 3, 3});
     f.write("stiffness", p.stiffness, {n});
     f.write("strain_energy", p.strain_energy, {n});
-    if (p.rotation.size() == n) f.write("rotation", flatten(p.rotation), {n, 3});
+    if (p.rotation.size() == n) f.write("rotation", h5::flatten(p.rotation), {n, 3});
     if (p.porosity.size() == n) f.write("porosity", p.porosity, {n});
     if (p.coordination.size() == n) f.write("coordination", p.coordination, {n});
     if (p.unbalanced_force.size() == n) f.write("unbalanced_force", p.unbalanced_force, {n});
@@ -162,15 +142,15 @@ void read_mpm_checkpoint(const std::string& dir, SolverState& s, DriverState& d)
   p.m = f.read_doubles("m", n);
   p.V = f.read_doubles("V", n);
   p.V0 = f.read_doubles("V0", n);
-  p.x = unflatten<3, 1>(f.read_doubles("x", 3 * n), n);
-  p.x0 = unflatten<3, 1>(f.read_doubles("x0", 3 * n), n);
-  p.v = unflatten<3, 1>(f.read_doubles("v", 3 * n), n);
-  p.F = unflatten<3, 3>(f.read_doubles("F", 9 * n), n);
-  p.dF = unflatten<3, 3>(f.read_doubles("dF", 9 * n), n);
-  p.sigma = unflatten<3, 3>(f.read_doubles("sigma", 9 * n), n);
+  p.x = h5::unflatten<3, 1>(f.read_doubles("x", 3 * n), n);
+  p.x0 = h5::unflatten<3, 1>(f.read_doubles("x0", 3 * n), n);
+  p.v = h5::unflatten<3, 1>(f.read_doubles("v", 3 * n), n);
+  p.F = h5::unflatten<3, 3>(f.read_doubles("F", 9 * n), n);
+  p.dF = h5::unflatten<3, 3>(f.read_doubles("dF", 9 * n), n);
+  p.sigma = h5::unflatten<3, 3>(f.read_doubles("sigma", 9 * n), n);
   p.stiffness = f.read_doubles("stiffness", n);
   p.strain_energy = f.read_doubles("strain_energy", n);
-  if (f.has("rotation")) p.rotation = unflatten<3, 1>(f.read_doubles("rotation", 3 * n), n);
+  if (f.has("rotation")) p.rotation = h5::unflatten<3, 1>(f.read_doubles("rotation", 3 * n), n);
   if (f.has("porosity")) p.porosity = f.read_doubles("porosity", n);
   if (f.has("coordination")) p.coordination = f.read_doubles("coordination", n);
   if (f.has("unbalanced_force")) p.unbalanced_force = f.read_doubles("unbalanced_force", n);

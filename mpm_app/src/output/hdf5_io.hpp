@@ -4,12 +4,33 @@
 #pragma once
 
 #include <hdf5.h>
+#include <Eigen/Core>
 
 #include <cstdint>
 #include <string>
 #include <vector>
 
 namespace mpmdem::mpm::h5 {
+
+// Fixed-size Eigen vectors/matrices to one flat row-major array of doubles, and back.
+template <int R, int C>
+std::vector<double> flatten(const std::vector<Eigen::Matrix<double, R, C>>& v) {
+  std::vector<double> out;
+  out.reserve(v.size() * R * C);
+  for (const auto& e : v)
+    for (int i = 0; i < R; ++i)
+      for (int j = 0; j < C; ++j) out.push_back(e(i, j));
+  return out;
+}
+template <int R, int C>
+std::vector<Eigen::Matrix<double, R, C>> unflatten(const std::vector<double>& flat, std::size_t n) {
+  std::vector<Eigen::Matrix<double, R, C>> out(n);
+  std::size_t k = 0;
+  for (auto& e : out)
+    for (int i = 0; i < R; ++i)
+      for (int j = 0; j < C; ++j) e(i, j) = flat[k++];
+  return out;
+}
 
 class File {
  public:

@@ -8,25 +8,6 @@
 
 namespace mpmdem::mpm {
 
-namespace {
-
-template <typename V>
-std::vector<double> flatten(const std::vector<V>& values, int comps) {
-  std::vector<double> flat;
-  flat.reserve(values.size() * static_cast<std::size_t>(comps));
-  for (const V& e : values) {
-    if constexpr (V::ColsAtCompileTime == 1) {
-      for (int k = 0; k < comps; ++k) flat.push_back(e[k]);
-    } else {
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) flat.push_back(e(i, j));  // row-major
-    }
-  }
-  return flat;
-}
-
-}  // namespace
-
 void write_final_state(const std::string& path, const Particles& p, const StateInfo& info) {
   const std::string tmp = path + ".tmp";
   const hsize_t n = p.size();
@@ -35,14 +16,14 @@ void write_final_state(const std::string& path, const Particles& p, const StateI
     f.write("id", p.id);
     if (p.region.size() == p.size())
       f.write("region", std::vector<std::int32_t>(p.region.begin(), p.region.end()));
-    f.write("x", flatten(p.x, 3), {n, 3});
-    f.write("x0", flatten(p.x0, 3), {n, 3});
-    f.write("v", flatten(p.v, 3), {n, 3});
-    f.write("stress", flatten(p.sigma, 9), {n, 3, 3});
-    f.write("F", flatten(p.F, 9), {n, 3, 3});
+    f.write("x", h5::flatten(p.x), {n, 3});
+    f.write("x0", h5::flatten(p.x0), {n, 3});
+    f.write("v", h5::flatten(p.v), {n, 3});
+    f.write("stress", h5::flatten(p.sigma), {n, 3, 3});
+    f.write("F", h5::flatten(p.F), {n, 3, 3});
     f.write("volume", p.V, {n});
     f.write("mass", p.m, {n});
-    if (p.rotation.size() == p.size()) f.write("rotation", flatten(p.rotation, 3), {n, 3});
+    if (p.rotation.size() == p.size()) f.write("rotation", h5::flatten(p.rotation), {n, 3});
     if (p.porosity.size() == p.size()) f.write("porosity", p.porosity, {n});
     if (p.coordination.size() == p.size()) f.write("coordination", p.coordination, {n});
     if (p.status.size() == p.size()) f.write("status", p.status);

@@ -199,8 +199,11 @@ void RveClient::gather_reports(const char* what) {
     throw;
   }
   timing_.max_compute_s = 0.0;
-  for (const auto& r : reports_)
+  timing_.mean_compute_s = 0.0;
+  for (const auto& r : reports_) {
     timing_.max_compute_s = std::max(timing_.max_compute_s, r.compute_s);
+    timing_.mean_compute_s += r.compute_s / static_cast<double>(reports_.size());
+  }
   for (std::size_t i = 0; i < reports_.size(); ++i) {
     const RankReport& r = reports_[i];
     if (!is_fatal(r.status)) continue;

@@ -25,6 +25,7 @@
 #include "output/energy_log.hpp"
 #include "output/hdf5_writer.hpp"
 #include "output/run_directory.hpp"
+#include "output/timing_log.hpp"
 #include "output/vtk_writer.hpp"
 #include "particle_init.hpp"
 #include "progress.hpp"
@@ -210,6 +211,7 @@ class Run {
     d.dt_max_s = s().dt_max_s;
     d.mass_initial_kg = s().mass_initial_kg;
     d.rve_particles = rve_particles();
+    if (timings_) timings_->flush();
     write_mpm_checkpoint(dir, solver_->state(), d);
     solver_->provider().checkpoint(dir + "/dem", solver_->step_count());
     commit_checkpoint(dir_, dir, scene_.output.checkpoints_kept);
@@ -243,6 +245,7 @@ class Run {
     const double energy_interval = scene_.output.energy_interval;
     if (resumed) {
       energy_.emplace(dir_ + "/energies.csv", solver_->step_count());
+      timings_.emplace(dir_ + "/timings.csv", solver_->step_count());
       if (scene_.output.vtk) vtk_.emplace(dir_, resumed_.frame_times);
       last_frame_step_ = resumed_.last_frame_step;
       last_energy_step_ = resumed_.last_energy_step;
@@ -250,6 +253,7 @@ class Run {
       next_energy_ = resumed_.next_energy;
     } else {
       energy_.emplace(dir_ + "/energies.csv");
+      timings_.emplace(dir_ + "/timings.csv");
       log_energy(0.0);
       if (scene_.output.vtk) vtk_.emplace(dir_);
       write_frame();
@@ -338,6 +342,7 @@ class Run {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     s().step_cpu_time_s += process_cpu_time() - cpu_start;
     last_dt_ = solver_->dt();
+    if (timings_) timings_->append(solver_->step_count(), solver_->time(), solver_->last_timing());
     s().dt_min_s = std::min(s().dt_min_s, last_dt_);
     s().dt_max_s = std::max(s().dt_max_s, last_dt_);
   }
@@ -481,6 +486,10 @@ class Run {
       sum.analysis.emplace_back("rve_no_contact_points_final",
                                 static_cast<double>(solver_->no_contact_points()));
     }
+    if (timings_) {
+      timings_->flush();
+      for (const auto& kv : timings_->totals()) sum.analysis.push_back(kv);
+    }
     if (opt_.final_particles) *opt_.final_particles = p;
     sum.wall_time_s = wall_time();
     if (!write_summary_file() && result_.exit_code == 0) result_.exit_code = kExitPeerError;
@@ -510,6 +519,7 @@ class Run {
   RunResult result_;
   std::unique_ptr<Solver> solver_;
   std::optional<EnergyLog> energy_;
+  std::optional<TimingLog> timings_;
   std::optional<VtkSeries> vtk_;
   std::optional<BarVibrationMonitor> bar_;
   std::optional<ColumnCollapseMonitor> column_;

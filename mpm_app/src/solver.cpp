@@ -4,6 +4,7 @@
 #include <Eigen/LU>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -219,13 +220,20 @@ void Solver::step_with(Stencils<Shape::kWidth>& stencils, double dt) {
   const SolverParams& sp = scene_.solver;
   const std::int64_t step = step_ + 1;
 
+  using Clock = std::chrono::steady_clock;
+  const auto seconds = [](Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double>(b - a).count();
+  };
+  const auto t0 = Clock::now();
   // Shape functions at x_p^n, used by every transfer of this step.
   compute_stencils<Shape>(grid_, p_.x, stencils);
   // Project mass, momentum and internal force to the grid.
   p2g(p_, stencils, grid_, buffers_);
+  const auto t1 = Clock::now();
   // Integrate the grid momentum; enforce walls and velocity constraints.
   grid_update(grid_, sp.gravity, sp.local_damping, dt);
   bc_.apply(grid_.v_i);
+  const auto t2 = Clock::now();
   // Update point velocities (PIC/FLIP) and positions; MUSL re-projects the new momentum.
   const bool musl = sp.scheme == Scheme::kMUSL;
   g2p(p_, stencils, grid_, sp.flip, dt, musl, buffers_);
@@ -242,6 +250,7 @@ void Solver::step_with(Stencils<Shape::kWidth>& stencils, double dt) {
         << " s): reduce solver.cfl or solver.dt_max, or check the material parameters";
     throw SimulationError(msg.str());
   }
+  const auto t3 = Clock::now();
   // Stresses for the whole batch in one call.
   const auto n = static_cast<std::ptrdiff_t>(p_.size());
 #pragma omp parallel for schedule(static) if (n > kParallelMin)
@@ -257,6 +266,9 @@ void Solver::step_with(Stencils<Shape::kWidth>& stencils, double dt) {
   step_ = step;
   dt_ = dt;
   apply_responses();
+  const auto t4 = Clock::now();
+  timing_ = {seconds(t0, t1), seconds(t1, t2), seconds(t2, t3), seconds(t3, t4),
+             provider_->last_timing()};
 
   // Time step of the next step; constraints whose release condition holds now.
   dt_next_ = stable_time_step(p_, grid_.h, sp.cfl, sp.dt_max);

@@ -67,6 +67,15 @@ struct SolverState {
   std::vector<char> constraint_active;
 };
 
+// Wall time of the phases of the last step [s] (issue 5: per-phase timing).
+struct StepTiming {
+  double p2g_s = 0.0;       // shape functions at x_p and particle-to-grid
+  double grid_s = 0.0;      // grid momentum update and boundary conditions
+  double g2p_s = 0.0;       // grid-to-particle, MUSL re-projection, dF, F, V
+  double stress_s = 0.0;    // provider update (remote: the whole exchange) and responses
+  ProviderTiming provider;  // the provider's own view of it
+};
+
 class Solver {
  public:
   // Calls provider->initialise(initial_stresses(scene, particles)) and keeps the responses,
@@ -99,6 +108,7 @@ class Solver {
   std::vector<std::string> take_events();
 
   ConstitutiveProvider& provider() { return *provider_; }
+  const StepTiming& last_timing() const { return timing_; }
   std::size_t removed_points() const { return removed_; }
   // Point-updates that came back with a non-fatal, non-ok status (protocol::RveStatus
   // kNoContacts: the RVE lost all contacts and returned zero stress), over the whole run.
@@ -134,6 +144,7 @@ class Solver {
   std::size_t removed_ = 0;
   std::int64_t no_contact_updates_ = 0;
   std::vector<std::string> events_;
+  StepTiming timing_;
 };
 
 }  // namespace mpmdem::mpm

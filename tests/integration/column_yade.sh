@@ -40,6 +40,10 @@ assert s["status"] == "complete", s
 assert s["mass_final_kg"] == s["mass_initial_kg"], "mass changed"
 assert s["removed_points"] == 0, "a point left the grid"
 assert s["n_rve_particles"] == 8 * 100, s["n_rve_particles"]  # 8 RVEs of 100 spheres
+# Per-phase timing: the DEM time of the slowest rank is inside the exchange, >= the mean.
+assert 0 < s["time_dem_mean_s"] <= s["time_dem_max_s"] <= s["time_exchange_s"], s
+assert s["dem_imbalance"] >= 1.0, s["dem_imbalance"]
+assert sum(1 for _ in open(full + "/timings.csv")) >= s["steps"] + 1
 t_r, ep0 = s["stage1_time_s"], s["Ep0_release_J"]
 assert 0.02 <= t_r <= 0.1 + 0.01, t_r
 worst = 0.0

@@ -119,6 +119,17 @@ TEST(ColumnCollapse, LocalModelConservesMassDissipatesAndSettlesInTheBands) {
   const double H_f = figure(s, "final_height_m");
   EXPECT_GE(H_f, 0.9 * g.L_i * std::pow(2.4, 1.0 / 3.0));
   EXPECT_LE(H_f, 1.1 * g.L_i * std::pow(2.4, 0.4));
+  // Per-phase timing: one row per step, phases inside the step's wall time, no DEM side.
+  std::ifstream timings(dir.str() + "/timings.csv");
+  std::string row;
+  std::int64_t rows = -1;  // the header
+  while (std::getline(timings, row)) ++rows;
+  EXPECT_EQ(rows, s.steps);
+  const double phases = figure(s, "time_p2g_s") + figure(s, "time_grid_s") +
+                        figure(s, "time_g2p_dF_s") + figure(s, "time_stress_s");
+  EXPECT_GT(phases, 0.0);
+  EXPECT_LE(phases, s.step_wall_time_s * 1.001 + 1e-6);
+  EXPECT_EQ(figure(s, "time_dem_max_s"), 0.0);
   const double ed = figure(s, "Ed_over_Ep0_final");
   EXPECT_GE(ed, 1.0 - H_f / g.H_i - 0.02);
   EXPECT_LE(ed, 1.0 - g.L_i / figure(s, "runout_m") + 0.02);

@@ -28,8 +28,9 @@
 namespace mpmdem {
 
 struct ExchangeTiming {
-  double exchange_s = 0.0;     // client wall time of the whole last exchange
-  double max_compute_s = 0.0;  // slowest server rank's backend time in it
+  double exchange_s = 0.0;      // client wall time of the whole last exchange
+  double max_compute_s = 0.0;   // slowest server rank's backend time in it
+  double mean_compute_s = 0.0;  // mean over the server ranks (max / mean: the imbalance)
 };
 
 // A fatal RVE status (anything but kOk and kNoContacts).

@@ -24,6 +24,13 @@ struct PointResponse {
   std::int32_t status = 0;  // protocol::RveStatus
 };
 
+// Wall times of the last update (remote: one exchange with the DEM servers).
+struct ProviderTiming {
+  double exchange_s = 0.0;  // the whole exchange as the client saw it
+  double dem_max_s = 0.0;   // slowest server rank's backend time
+  double dem_mean_s = 0.0;  // mean over the server ranks
+};
+
 class ConstitutiveProvider {
  public:
   virtual ~ConstitutiveProvider() = default;
@@ -45,6 +52,8 @@ class ConstitutiveProvider {
     (void)dir;
     (void)step;
   }
+  // Timing of the last update (remote; zeros for local models).
+  virtual ProviderTiming last_timing() const { return {}; }
   // Particles in all RVEs at initialisation (remote; 0 for local models).
   virtual std::int64_t rve_particles() const { return 0; }
   // Orderly end (remote: shutdown message).

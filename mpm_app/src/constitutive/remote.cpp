@@ -55,6 +55,11 @@ class RemoteProvider : public ConstitutiveProvider {
 
   std::int64_t rve_particles() const override { return particles_; }
 
+  ProviderTiming last_timing() const override {
+    const ExchangeTiming& t = client_.last_timing();
+    return {t.exchange_s, t.max_compute_s, t.mean_compute_s};
+  }
+
   void update(const std::vector<Mat3>& dF, double dt, std::int64_t step, double time,
               std::vector<PointResponse>& out) override {
     requests_.resize(dF.size());

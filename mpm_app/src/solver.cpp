@@ -97,28 +97,15 @@ Solver::Solver(const Scene& scene, Particles particles,
     if (out & protocol::kOutputPorosity) p_.porosity.assign(n, 0.0);
     if (out & protocol::kOutputCoordination) p_.coordination.assign(n, 0.0);
     if (out & protocol::kOutputUnbalancedForce) p_.unbalanced_force.assign(n, 0.0);
-  } else {
-    // linear_elastic and drucker_prager: 1/2 sigma : C^-1 : sigma is the elastic strain energy
-    // of both (for perfect plasticity the elastic strain is C^-1 : sigma).
-    law_ =
-        elastic::ElasticLaw{scene_.constitutive.youngs_modulus, scene_.constitutive.poisson_ratio};
   }
-
-  // Nodes lighter than a 1e-12 fraction of the lightest point are empty.
-  double m_min = 0.0;
-  if (n > 0) m_min = *std::min_element(p_.m.begin(), p_.m.end());
-  grid_.mass_floor = 1e-12 * m_min;
+  set_up_energy_law_and_mass_floor();
 
   slot_.resize(n);
   for (std::size_t q = 0; q < n; ++q) slot_[q] = q;
   dF_slots_.assign(n, Mat3::Identity());
 
   provider_->initialise(initial_stresses(scene_, p_), responses_);
-  if (responses_.size() != n) {
-    throw SimulationError("constitutive provider '" + provider_->name() + "' initialised " +
-                          std::to_string(responses_.size()) + " points, expected " +
-                          std::to_string(n));
-  }
+  check_response_count("initialised", n);
   apply_responses();
   handle_points_outside_grid();
   if (scene_.solver.scheme == Scheme::kUSL && scene_.solver.shape == ShapeKind::kLinear) {
@@ -144,13 +131,7 @@ Solver::Solver(const Scene& scene, SolverState state,
         " points, " + std::to_string(state.slot.size()) + " slots, " +
         std::to_string(state.constraint_active.size()) + " constraint flags)");
   }
-  if (scene_.constitutive.model != ModelKind::kRemote) {
-    law_ =
-        elastic::ElasticLaw{scene_.constitutive.youngs_modulus, scene_.constitutive.poisson_ratio};
-  }
-  double m_min = 0.0;
-  if (!p_.m.empty()) m_min = *std::min_element(p_.m.begin(), p_.m.end());
-  grid_.mass_floor = 1e-12 * m_min;
+  set_up_energy_law_and_mass_floor();
   slot_ = std::move(state.slot);
   dF_slots_.assign(state.n_slots, Mat3::Identity());
   std::vector<Mat3> slot_stress(state.n_slots, Mat3::Zero());
@@ -165,12 +146,28 @@ Solver::Solver(const Scene& scene, SolverState state,
   removed_ = state.removed;
   no_contact_updates_ = state.no_contact_updates;
   provider_->resume(slot_stress, responses_);
-  if (responses_.size() != state.n_slots) {
-    throw SimulationError("constitutive provider '" + provider_->name() + "' resumed " +
-                          std::to_string(responses_.size()) + " points, expected " +
-                          std::to_string(state.n_slots));
-  }
+  check_response_count("resumed", state.n_slots);
   // The saved stresses stand (a restored RVE reports the stress it was saved with).
+}
+
+void Solver::set_up_energy_law_and_mass_floor() {
+  if (scene_.constitutive.model != ModelKind::kRemote) {
+    // linear_elastic and drucker_prager: 1/2 sigma : C^-1 : sigma is the elastic strain energy
+    // of both (for perfect plasticity the elastic strain is C^-1 : sigma).
+    law_ =
+        elastic::ElasticLaw{scene_.constitutive.youngs_modulus, scene_.constitutive.poisson_ratio};
+  }
+  // Nodes lighter than a 1e-12 fraction of the lightest point are empty.
+  double m_min = 0.0;
+  if (!p_.m.empty()) m_min = *std::min_element(p_.m.begin(), p_.m.end());
+  grid_.mass_floor = 1e-12 * m_min;
+}
+
+void Solver::check_response_count(const char* what, std::size_t expected) const {
+  if (responses_.size() == expected) return;
+  throw SimulationError("constitutive provider '" + provider_->name() + "' " + what + " " +
+                        std::to_string(responses_.size()) + " points, expected " +
+                        std::to_string(expected));
 }
 
 SolverState Solver::state() const {

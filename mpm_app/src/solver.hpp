@@ -120,6 +120,8 @@ class Solver {
   template <class Shape>
   void step_with(Stencils<Shape::kWidth>& stencils, double dt);
   void handle_points_outside_grid();
+  void set_up_energy_law_and_mass_floor();
+  void check_response_count(const char* what, std::size_t expected) const;
   void remove_points(const std::vector<char>& keep);
   void apply_responses();
   std::string describe_point(std::size_t q) const;

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "boundary_conditions.hpp"
+#include "energies.hpp"
 #include "errors.hpp"
 
 namespace mpmdem::mpm {
@@ -88,9 +89,9 @@ DepositShape measure_deposit(const ColumnGeometry& g, const Particles& p) {
 }
 
 double potential_energy_above_base(const ColumnGeometry& g, const Particles& p) {
-  double e = 0.0;
-  for (std::size_t q = 0; q < p.size(); ++q) e += p.m[q] * g.g * (p.x[q][2] - g.z_base);
-  return e;
+  double mass = 0.0;
+  for (double m : p.m) mass += m;
+  return compute_energies(p, Vec3(0.0, 0.0, -g.g)).E_p - mass * g.g * g.z_base;
 }
 
 ColumnCollapseMonitor::ColumnCollapseMonitor(const Scene& scene)
@@ -143,8 +144,7 @@ double ColumnCollapseMonitor::time_over_t_star(double time) const {
 std::vector<std::pair<std::string, double>> ColumnCollapseMonitor::figures(
     double time, const Particles& p) const {
   const DepositShape d = measure_deposit(g_, p);
-  double E_k = 0.0;
-  for (std::size_t q = 0; q < p.size(); ++q) E_k += 0.5 * p.m[q] * p.v[q].squaredNorm();
+  const double E_k = compute_energies(p, Vec3(0.0, 0.0, -g_.g)).E_k;
   const double E_p = potential_energy_above_base(g_, p);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double E_d = E_p0_release_ - E_p - E_k;

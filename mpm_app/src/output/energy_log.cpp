@@ -15,23 +15,8 @@ EnergyLog::EnergyLog(const std::string& path) : path_(path), out_(path, std::ios
   out_.flush();
 }
 
-EnergyLog::EnergyLog(const std::string& path, std::int64_t last_step) : path_(path) {
-  std::string kept = std::string(kHeader) + "\n";
-  {
-    std::ifstream in(path);
-    std::string line;
-    std::getline(in, line);  // header
-    while (std::getline(in, line)) {
-      const auto comma = line.find(',');
-      if (comma == std::string::npos) break;
-      const auto next = line.find(',', comma + 1);
-      const long long step = std::atoll(line.substr(comma + 1, next - comma - 1).c_str());
-      if (step > last_step) break;
-      kept += line + "\n";
-      ++rows_;
-    }
-  }
-  write_file_atomic(path, kept);
+EnergyLog::EnergyLog(const std::string& path, std::int64_t last_step)
+    : path_(path), rows_(keep_rows_up_to_step(path, kHeader, last_step, 1)) {
   out_.open(path, std::ios::app);
   if (!out_) throw std::runtime_error("cannot append to '" + path + "'");
 }

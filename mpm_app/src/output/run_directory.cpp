@@ -1,6 +1,7 @@
 #include "output/run_directory.hpp"
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <ctime>
 #include <filesystem>
@@ -81,6 +82,30 @@ void write_file_atomic(const std::string& path, const std::string& content) {
     if (!out) throw std::runtime_error("write to '" + tmp + "' failed (disk full?)");
   }
   commit_file(tmp, path);
+}
+
+std::size_t keep_rows_up_to_step(const std::string& path, const std::string& header,
+                                 std::int64_t last_step, int step_column) {
+  std::string kept = header + "\n";
+  std::size_t rows = 0;
+  {
+    std::ifstream in(path);
+    std::string line;
+    std::getline(in, line);  // header
+    while (std::getline(in, line)) {
+      std::size_t start = 0;
+      for (int c = 0; c < step_column && start != std::string::npos; ++c) {
+        start = line.find(',', start);
+        if (start != std::string::npos) ++start;
+      }
+      if (start == std::string::npos) break;
+      if (std::atoll(line.c_str() + start) > last_step) break;
+      kept += line + "\n";
+      ++rows;
+    }
+  }
+  write_file_atomic(path, kept);
+  return rows;
 }
 
 }  // namespace mpmdem::mpm

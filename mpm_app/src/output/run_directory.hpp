@@ -3,6 +3,7 @@
 // file and an interrupted run never leaves a truncated summary or state.
 #pragma once
 
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -31,6 +32,11 @@ void create_run_directory(const std::string& dir, bool force);
 // Writes `content` to `path` through `path + ".tmp"` and a rename.
 void write_file_atomic(const std::string& path, const std::string& content);
 
+// A resumed run's CSV log: rewrites `path` (atomically) with `header` and the rows whose
+// integer in column `step_column` is <= last_step, stopping at the first later row (rows
+// the interrupted run wrote after its checkpoint). Returns the rows kept.
+std::size_t keep_rows_up_to_step(const std::string& path, const std::string& header,
+                                 std::int64_t last_step, int step_column);
 // Renames `tmp_path` to `path` (same directory), throwing with both names on failure.
 void commit_file(const std::string& tmp_path, const std::string& path);
 

@@ -14,17 +14,7 @@ TimingLog::TimingLog(const std::string& path) : path_(path), out_(path, std::ios
 }
 
 TimingLog::TimingLog(const std::string& path, std::int64_t last_step) : path_(path) {
-  std::string kept = std::string(kHeader) + "\n";
-  {
-    std::ifstream in(path);
-    std::string line;
-    std::getline(in, line);  // header
-    while (std::getline(in, line)) {
-      if (std::atoll(line.c_str()) > last_step) break;
-      kept += line + "\n";
-    }
-  }
-  write_file_atomic(path, kept);
+  keep_rows_up_to_step(path, kHeader, last_step, 0);
   out_.open(path, std::ios::app);
   if (!out_) throw std::runtime_error("cannot append to '" + path + "'");
 }

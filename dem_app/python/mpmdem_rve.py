@@ -14,15 +14,18 @@ O.cell.trsf equals the product of all dF to round-off. Only two velGrad sets per
 needed (substeps 1 and ns-1); the last one stays pending (rate continuity), which the next
 burst accounts for.
 """
+import glob
 import json
 import math
 import os
+import pickle
 import random
 import struct
+import time
 
 import mpmdem_packing as pk
 
-REPLY_WIDTH = 18  # stress[9] rot[3] porosity coordination unbalanced stiffness status nsub
+REPLY_WIDTH = 19  # stress[9] rot[3] porosity coordination unbalanced stiffness status nsub cost
 OUT_ROT, OUT_POR, OUT_COORD, OUT_UNB = 1, 2, 4, 8
 OK, NO_CONTACTS, NON_FINITE, EXPLODING = 0, 1, 2, 3
 
@@ -239,6 +242,7 @@ class RveSet:
         out = []
         faults = []
         for k, gid in enumerate(self.ids):
+            t0 = time.perf_counter()
             O.switchToScene(self.scenes[k])
             s = self.state[k]
             ns = 0
@@ -256,6 +260,7 @@ class RveSet:
                 status = EXPLODING
             self._regularise_cell(k, gid)
             r, status = self._reply(k, out, status, ns)
+            r[18] = time.perf_counter() - t0  # this RVE's cost (load balance)
             out.extend(r)
             if status in (NON_FINITE, EXPLODING):
                 faults.append(self._fault(gid, status, " (kinetic energy %g J)" % ke))
@@ -375,12 +380,55 @@ class RveSet:
         self.scenes = []
         self.state = []
         for gid in self.ids:
-            with open(os.path.join(d, "rve_%d.json" % gid)) as f:
+            src = d
+            if not os.path.exists(os.path.join(d, "rve_%d.json" % gid)):
+                # Load balance moved RVEs between ranks: another rank may have saved it.
+                hits = glob.glob(os.path.join(os.path.dirname(d), "rank_*", "rve_%d.json" % gid))
+                if hits:
+                    src = os.path.dirname(hits[0])
+            with open(os.path.join(src, "rve_%d.json" % gid)) as f:
                 s = json.load(f)
             idx = O.addScene()
             O.switchToScene(idx)
-            O.load(os.path.join(d, "rve_%d.yade.bz2" % gid))
+            O.load(os.path.join(src, "rve_%d.yade.bz2" % gid))
             self.scenes.append(idx)
             self.step_no = s.pop("step")
             s.pop("id")
             self.state.append(s)
+
+    # -- load balance -----------------------------------------------------------------------
+    def export(self, gid):
+        """The whole state of RVE gid (scene, bookkeeping) as bytes for adopt() elsewhere."""
+        k = self.ids.index(gid)
+        O = self.y.O
+        O.switchToScene(self.scenes[k])
+        return pickle.dumps({"scene": O.sceneToString(), "state": self.state[k],
+                             "dmax": self._dmax.get(gid)}, protocol=4)
+
+    def adopt(self, first, n, incoming):
+        """Own RVEs [first, first + n): keep the ones already here, add the incoming ones
+        (gid -> bytes from export), free the scenes of the RVEs that left."""
+        O = self.y.O
+        ids = list(range(first, first + n))
+        here = {gid: k for k, gid in enumerate(self.ids)}
+        scenes, state = [], []
+        for gid in ids:
+            if gid in here:
+                scenes.append(self.scenes[here[gid]])
+                state.append(self.state[here[gid]])
+                continue
+            d = pickle.loads(incoming[gid])
+            idx = O.addScene()
+            O.switchToScene(idx)
+            O.stringToScene(d["scene"])
+            scenes.append(idx)
+            state.append(d["state"])
+            if d["dmax"] is not None:
+                self._dmax[gid] = d["dmax"]
+        keep = set(ids)
+        for gid, k in here.items():
+            if gid not in keep:
+                O.switchToScene(self.scenes[k])
+                O.resetThisScene()  # frees the bodies and interactions of an RVE that left
+                self._dmax.pop(gid, None)
+        self.ids, self.scenes, self.state = ids, scenes, state

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <string>
 
@@ -31,8 +32,18 @@ class RveBackend {
   // into RveReply::status; an exception means the whole rank failed.
   virtual void step(const protocol::ControlHeader& header, const protocol::RveRequest* req,
                     protocol::RveReply* reply) = 0;
+  // Save every owned RVE under `dir`; restore() reads the RVEs of this rank's range from a
+  // directory written by any partition of the same RVEs (load balance moves RVEs).
   virtual void checkpoint(const std::filesystem::path& dir) = 0;
   virtual void restore(const std::filesystem::path& dir) = 0;
+  // Load balance (MessageKind::kRebalance). export_rve: the whole state of one owned RVE
+  // (global id) as bytes, for adopt() on another rank's backend of the same kind; the RVE
+  // must continue there as it would have here. adopt: own [first_rve, first_rve + n_rve)
+  // from now on; RVEs in both the old and the new range stay, the others are dropped, and
+  // `incoming` holds the exported states of the new ones (global id -> bytes).
+  virtual std::string export_rve(std::uint64_t gid) = 0;
+  virtual void adopt(std::uint64_t first_rve, std::uint64_t n_rve,
+                     std::map<std::uint64_t, std::string> incoming) = 0;
   // Detail of the faults (RVE ids, step) found by the last initialise()/step(), for
   // RankReport::message; empty when every reply has status kOk or kNoContacts.
   virtual std::string last_fault_message() const { return {}; }

@@ -39,6 +39,25 @@ void add_coupling_keys(config::Schema& s) {
             "file holding the server's MPI port name, relative to the run directory; "
             "removed when the server closes")
             .def("dem_port.txt"));
+  s.add(key("coupling.load_balance", Type::kMap, "",
+            "cost-aware load balance of the RVEs over the server ranks (docs/protocol.md)"));
+  s.add(key("coupling.load_balance.threshold", Type::kDouble, "-",
+            "rebalance when the slowest rank's smoothed RVE cost exceeds the mean rank's by "
+            "more than this fraction (0.1: 10 %); 0 turns load balancing off. Moving a YADE "
+            "RVE reloads its scene, which changes its summation order (~1e-11 relative), and "
+            "the moves follow measured times: runs with it on are not bitwise repeatable")
+            .def("0")
+            .ge(0));
+  s.add(key("coupling.load_balance.min_interval_steps", Type::kInt, "steps",
+            "at least this many coupling steps between two rebalances (and before the first)")
+            .def("50")
+            .ge(1));
+  s.add(key("coupling.load_balance.smoothing", Type::kDouble, "-",
+            "weight of the newest cost in the exponentially smoothed per-RVE cost (1: only "
+            "the last step)")
+            .def("0.2")
+            .gt(0)
+            .le(1));
   s.add(key("coupling.elastic", Type::kMap, "",
             "material of the elastic stub backend (required when backend is elastic)"));
   s.add(

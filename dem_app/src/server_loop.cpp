@@ -14,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include "migration.hpp"
 #include "mpmdem/errors.hpp"
 #include "mpmdem/exchange.hpp"
 
@@ -210,7 +211,8 @@ int serve(const ServerOptions& opts, const BackendMaker& make_backend) {
   std::vector<protocol::RveRequest> requests;
   std::vector<RveReply> replies(ctx.n_rve);
   ControlHeader header;
-  std::int64_t steps = 0;
+  std::int64_t steps = 0, rebalances = 0;
+  std::vector<Partition> parts = partition_contiguous(channel.n_rve(), channel.ranks());
   IdleWatchdog idle(opts.idle_timeout_s, root);
   std::vector<double> step_compute_s, step_exchange_s;  // per kStep exchange (timing line)
   for (;;) {
@@ -224,6 +226,8 @@ int serve(const ServerOptions& opts, const BackendMaker& make_backend) {
     // O_I: this rank's part of the payload.
     if (kind == MessageKind::kInitialise) channel.receive(init);
     if (kind == MessageKind::kStep) channel.receive(requests);
+    std::vector<Partition> next_parts;
+    if (kind == MessageKind::kRebalance) next_parts = channel.receive_partition();
 
     // S: compute.
     const double t0 = now_s();
@@ -237,6 +241,16 @@ int serve(const ServerOptions& opts, const BackendMaker& make_backend) {
         } else if (kind == MessageKind::kStep) {
           backend->step(header, requests.data(), replies.data());
           ++steps;
+        } else if (kind == MessageKind::kRebalance) {
+          // Every rank knows the old partition (the default one or the last one sent).
+          migrate(*backend, parts, next_parts, ctx.rank, MPI_COMM_WORLD);
+          parts = next_parts;
+          const Partition mine = parts[static_cast<std::size_t>(ctx.rank)];
+          ctx.first_rve = mine.offset;
+          ctx.n_rve = mine.count;
+          channel.set_partition(mine);
+          replies.assign(ctx.n_rve, RveReply{});
+          ++rebalances;
         } else if (kind == MessageKind::kCheckpoint) {
           std::filesystem::path dir = header.path;
           if (dir.is_relative()) dir = opts.run_dir / dir;
@@ -244,7 +258,9 @@ int serve(const ServerOptions& opts, const BackendMaker& make_backend) {
           std::filesystem::create_directories(dir, ec);
           backend->checkpoint(dir);
         }
-        summarise(replies, ctx.first_rve, report);
+        if (kind == MessageKind::kInitialise || kind == MessageKind::kStep) {
+          summarise(replies, ctx.first_rve, report);
+        }
         if (report.status != 0 && kind != MessageKind::kCheckpoint) {
           const std::string why = backend->last_fault_message();
           if (!why.empty()) {
@@ -264,7 +280,7 @@ int serve(const ServerOptions& opts, const BackendMaker& make_backend) {
     // client's progress: a killed client would leave the rank waiting here, so the idle
     // watchdog covers this wait too.
     idle.arm();
-    if (kind == MessageKind::kCheckpoint) {
+    if (kind == MessageKind::kCheckpoint || kind == MessageKind::kRebalance) {
       channel.send_report(report);
     } else {
       channel.send(replies, report);
@@ -286,7 +302,9 @@ int serve(const ServerOptions& opts, const BackendMaker& make_backend) {
       std::cerr << "dem_app: mpm_app aborted the run: " << (why.empty() ? "(no reason given)" : why)
                 << std::endl;
     } else {
-      std::cerr << "dem_app: shutdown after " << steps << " steps" << std::endl;
+      std::cerr << "dem_app: shutdown after " << steps << " steps";
+      if (rebalances > 0) std::cerr << " and " << rebalances << " load-balance migration(s)";
+      std::cerr << std::endl;
     }
   }
   return aborted ? kExitPeerError : 0;

@@ -266,6 +266,39 @@ void RveClient::checkpoint(const std::string& path, std::int64_t step) {
   timing_.exchange_s = now_s() - t0;
 }
 
+void RveClient::rebalance(const std::vector<Partition>& next, std::int64_t step) {
+  require_connected("rebalance");
+  std::uint64_t expect = 0;
+  for (const Partition& p : next) {
+    assert(p.offset == expect);
+    expect += p.count;
+  }
+  assert(next.size() == parts_.size() && expect == n_rve_);
+  const double t0 = now_s();
+  ControlHeader h{};
+  h.kind = static_cast<std::int32_t>(MessageKind::kRebalance);
+  h.step = step;
+  send_header(h);
+  std::vector<std::uint64_t> offsets;
+  for (const Partition& p : next) offsets.push_back(p.offset);
+  offsets.push_back(n_rve_);
+  const int root_arg = root() ? MPI_ROOT : MPI_PROC_NULL;
+  try {
+    MPMDEM_CHECK_MPI(MPI_Bcast(offsets.data(), static_cast<int>(offsets.size()), MPI_UINT64_T,
+                               root_arg, conn_.intercomm()));
+  } catch (...) {
+    broken_ = true;
+    throw;
+  }
+  gather_reports("rebalance");
+  parts_ = next;
+  for (std::size_t r = 0; r < parts_.size(); ++r) {
+    counts_[r] = static_cast<int>(parts_[r].count);
+    displs_[r] = static_cast<int>(parts_[r].offset);
+  }
+  timing_.exchange_s = now_s() - t0;
+}
+
 void RveClient::shutdown() {
   if (!connected()) return;
   ControlHeader h{};
@@ -328,6 +361,7 @@ bool RveServerChannel::next(ControlHeader& header) {
     case MessageKind::kInitialise:
     case MessageKind::kStep:
     case MessageKind::kCheckpoint:
+    case MessageKind::kRebalance:
       return true;
     case MessageKind::kShutdown:
       return false;
@@ -368,6 +402,20 @@ void RveServerChannel::send(const std::vector<RveReply>& replies, const RankRepo
 void RveServerChannel::send_report(const RankReport& report) {
   MPMDEM_CHECK_MPI(
       MPI_Gather(&report, 1, types_.report, nullptr, 0, types_.report, 0, conn_.intercomm()));
+}
+
+std::vector<Partition> RveServerChannel::receive_partition() {
+  std::vector<std::uint64_t> offsets(static_cast<std::size_t>(conn_.local_size()) + 1);
+  MPMDEM_CHECK_MPI(MPI_Bcast(offsets.data(), static_cast<int>(offsets.size()), MPI_UINT64_T, 0,
+                             conn_.intercomm()));
+  std::vector<Partition> parts;
+  for (std::size_t r = 0; r + 1 < offsets.size(); ++r) {
+    if (offsets[r + 1] < offsets[r] || offsets.front() != 0 || offsets.back() != n_rve_) {
+      throw PeerError("kRebalance: the client sent an invalid partition (protocol violation)");
+    }
+    parts.push_back({offsets[r], offsets[r + 1] - offsets[r]});
+  }
+  return parts;
 }
 
 void RveServerChannel::close() {

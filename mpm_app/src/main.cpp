@@ -1,5 +1,6 @@
 // mpm_app: the MPM side of mpmdem.
 //   mpm_app SCENE.yaml [--out DIR] [--threads T] [--force]   run a scene
+//   mpm_app SCENE.yaml ... --max-steps N                     stop after N steps (benchmarks)
 //   mpm_app SCENE.yaml --out RUN --resume CHECKPOINT|latest   continue a checkpointed run
 //   mpm_app --check-config FILE                            validate a scene, count points
 //   mpm_app --print-config-reference                       every key: type, default, unit
@@ -95,6 +96,10 @@ int main(int argc, char** argv) {
   app.add_option("--resume", options.resume,
                  "continue the run in --out from a checkpoint directory (RUN/checkpoints/"
                  "step_<n>) or 'latest' (the newest complete one)");
+  app.add_option("--max-steps", options.max_steps,
+                 "stop after this many steps (status 'truncated', exit 0): a fixed workload "
+                 "for benchmarks")
+      ->check(CLI::Range(std::int64_t{1}, std::int64_t{1} << 62));
   app.add_option("--check-config", check_file, "validate a scene file and exit");
   app.add_flag("--print-config-reference", print_reference,
                "print every config key (type, default, unit, range, doc) and exit");

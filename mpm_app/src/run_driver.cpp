@@ -281,6 +281,11 @@ class Run {
         out_ << "stop requested: stopping after step " << solver_->step_count() << std::endl;
         break;
       }
+      if (opt_.max_steps > 0 && solver_->step_count() >= opt_.max_steps) {
+        s().status = "truncated";
+        out_ << "--max-steps " << opt_.max_steps << " reached: stopping" << std::endl;
+        break;
+      }
       timed_step();
       const double t = solver_->time();
       const double tol = 1e-6 * last_dt_;
@@ -481,6 +486,8 @@ class Run {
     if (column_) sum.analysis = column_->figures(solver_->time(), p);
     if (scene_.constitutive.model == ModelKind::kRemote) {
       sum.analysis.emplace_back("n_rve_particles", static_cast<double>(rve_particles()));
+      sum.analysis.emplace_back("rebalances",
+                                static_cast<double>(solver_->provider().rebalances()));
       sum.analysis.emplace_back("rve_no_contact_updates",
                                 static_cast<double>(solver_->no_contact_updates()));
       sum.analysis.emplace_back("rve_no_contact_points_final",

@@ -8,6 +8,7 @@
 //   3   the DEM server refused the handshake (versions, config hash, ...; remote model)
 //   4   the simulation failed (SimulationError, non-finite state, no server, peer error);
 //       summary.json says "status": "failed" with the message
+//   0   also for a run cut short by --max-steps ("status": "truncated")
 //   130 interrupted by SIGINT/SIGTERM: stopped after the current step, outputs written,
 //       "status": "interrupted"
 #pragma once
@@ -32,6 +33,9 @@ struct RunOptions {
   // Continue the run in out_dir from this checkpoint (checkpoints/step_<n>; "latest": the
   // newest complete one). The DEM servers must have been started with --restore <it>/dem.
   std::string resume;
+  // > 0: stop after this many steps in all (counted from step 0, also on resume) with
+  // status "truncated" and exit code 0: fixed workloads for benchmarks (scaling study).
+  std::int64_t max_steps = 0;
   bool handle_signals = true;            // install SIGINT/SIGTERM handlers for the run
   std::ostream* out = nullptr;           // progress and events (nullptr: std::cout)
   std::ostream* err = nullptr;           // errors (nullptr: std::cerr)

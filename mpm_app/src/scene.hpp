@@ -105,8 +105,11 @@ struct CouplingParams {
   std::string service_name = "mpmdem";
   double connect_timeout_s = 60.0;
   std::string port_file = "dem_port.txt";  // relative to the run directory
-  std::string canonical_text;              // canonical form of the whole section
-  std::uint64_t hash = 0;                  // fnv1a64(canonical_text)
+  double load_balance_threshold = 0.0;     // coupling.load_balance.*: 0 = off
+  std::int64_t load_balance_min_interval = 50;
+  double load_balance_smoothing = 0.2;
+  std::string canonical_text;  // canonical form of the whole section
+  std::uint64_t hash = 0;      // fnv1a64(canonical_text)
 };
 
 struct OutputParams {

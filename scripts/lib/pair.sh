@@ -18,6 +18,9 @@ PAIR_SERVER_PID=""
 PAIR_CLIENT_PID=""
 PAIR_CLIENT_LOCAL=0
 PAIR_FINAL_HOOK=""  # function run after an interrupt's cleanup (e.g. print the results)
+# Extra mpirun options per side, e.g. (--hostfile FILE) or (--host h1:4,h2:4): node partitions.
+PAIR_SERVER_MPIRUN_ARGS=()
+PAIR_CLIENT_MPIRUN_ARGS=()
 
 # mpirun options for two separately launched jobs on one machine. Open MPI 4 needs the
 # shared ompi-server for connect/accept; binding is off so that OpenMP threads and several
@@ -122,7 +125,8 @@ pair_start_server() {
   shift 2
   local args
   mapfile -t args < <(pair_mpirun_args)
-  setsid mpirun "${args[@]}" -np "$np" "$@" </dev/null >"$log" 2>&1 &
+  echo "mpirun ${args[*]} ${PAIR_SERVER_MPIRUN_ARGS[*]} -np $np $*" >"$log"
+  setsid mpirun "${args[@]}" "${PAIR_SERVER_MPIRUN_ARGS[@]}" -np "$np" "$@" </dev/null >>"$log" 2>&1 &
   PAIR_SERVER_PID=$!
   PAIR_PIDS+=("$PAIR_SERVER_PID")
 }
@@ -133,7 +137,8 @@ pair_start_client() {
   local args
   mapfile -t args < <(pair_mpirun_args)
   # tee ignores Ctrl-C so that the client's last lines still reach the log.
-  setsid mpirun "${args[@]}" -np "$np" "$@" </dev/null > >(trap '' INT; exec tee "$log") 2>&1 &
+  echo "mpirun ${args[*]} ${PAIR_CLIENT_MPIRUN_ARGS[*]} -np $np $*" >"$log.cmd"
+  setsid mpirun "${args[@]}" "${PAIR_CLIENT_MPIRUN_ARGS[@]}" -np "$np" "$@" </dev/null > >(trap '' INT; exec tee "$log") 2>&1 &
   PAIR_CLIENT_PID=$!
   PAIR_CLIENT_LOCAL=0
   PAIR_PIDS+=("$PAIR_CLIENT_PID")

@@ -1,6 +1,7 @@
 // The elastic stub backend: see elastic_backend.hpp.
 #include "backends/elastic_backend.hpp"
 
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -44,12 +45,15 @@ void ElasticBackend::initialise(const protocol::RveInit* init, protocol::RveRepl
 void ElasticBackend::step(const protocol::ControlHeader& /*header*/,
                           const protocol::RveRequest* req, protocol::RveReply* reply) {
   const elastic::ElasticLaw law{params_.youngs_modulus, params_.poisson_ratio};
+  using Clock = std::chrono::steady_clock;
   for (std::size_t i = 0; i < sigma_.size(); ++i) {
+    const auto t0 = Clock::now();
     if (!(req[i].flags & protocol::kFlagQueryOnly)) {
       const Eigen::Matrix3d dF = Eigen::Map<const RowMajor3>(req[i].dF);
       sigma_[i] = law.update(sigma_[i], dF);
     }
     fill_reply(i, reply[i]);
+    reply[i].cost_s = std::chrono::duration<double>(Clock::now() - t0).count();
   }
 }
 
@@ -72,32 +76,72 @@ void ElasticBackend::checkpoint(const std::filesystem::path& dir) {
 }
 
 void ElasticBackend::restore(const std::filesystem::path& dir) {
-  const auto file = checkpoint_file(dir);
-  std::ifstream in(file, std::ios::binary);
-  if (!in) {
-    throw std::runtime_error("no elastic checkpoint " + file.string() +
-                             " (was it written by a server with the same number of ranks?)");
+  // Any partition of the same RVEs may have written the files (load balance moves RVEs):
+  // read them all and keep the RVEs of this rank's range.
+  std::vector<bool> found(ctx_.n_rve, false);
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("elastic_rank", 0) != 0 || entry.path().extension() != ".bin") continue;
+    const auto file = entry.path();
+    std::ifstream in(file, std::ios::binary);
+    char magic[sizeof kFileMagic] = {};
+    std::uint64_t header[2] = {0, 0};
+    in.read(magic, sizeof magic);
+    in.read(reinterpret_cast<char*>(header), sizeof header);
+    if (!in || std::memcmp(magic, kFileMagic, sizeof magic) != 0) {
+      throw std::runtime_error(file.string() + " is not an elastic-backend checkpoint");
+    }
+    for (std::uint64_t k = 0; k < header[1]; ++k) {
+      RowMajor3 row;
+      in.read(reinterpret_cast<char*>(row.data()), 9 * sizeof(double));
+      if (!in) throw std::runtime_error(file.string() + " is truncated");
+      const std::uint64_t gid = header[0] + k;
+      if (gid >= ctx_.first_rve && gid < ctx_.first_rve + ctx_.n_rve) {
+        sigma_[gid - ctx_.first_rve] = row;
+        found[gid - ctx_.first_rve] = true;
+      }
+    }
   }
-  char magic[sizeof kFileMagic] = {};
-  std::uint64_t header[2] = {0, 0};
-  in.read(magic, sizeof magic);
-  in.read(reinterpret_cast<char*>(header), sizeof header);
-  if (!in || std::memcmp(magic, kFileMagic, sizeof magic) != 0) {
-    throw std::runtime_error(file.string() + " is not an elastic-backend checkpoint");
+  for (std::size_t i = 0; i < found.size(); ++i) {
+    if (!found[i]) {
+      throw std::runtime_error("no elastic checkpoint in " + dir.string() + " holds RVE " +
+                               std::to_string(ctx_.first_rve + i) +
+                               ": restore with the same RVE count");
+    }
   }
-  if (header[0] != ctx_.first_rve || header[1] != ctx_.n_rve) {
-    throw std::runtime_error(file.string() + " holds RVEs [" + std::to_string(header[0]) + ", " +
-                             std::to_string(header[0] + header[1]) + ") but this rank owns [" +
-                             std::to_string(ctx_.first_rve) + ", " +
-                             std::to_string(ctx_.first_rve + ctx_.n_rve) +
-                             "): restore with the same RVE count and server ranks");
+}
+
+std::string ElasticBackend::export_rve(std::uint64_t gid) {
+  if (gid < ctx_.first_rve || gid >= ctx_.first_rve + ctx_.n_rve) {
+    throw std::logic_error("elastic backend: export of RVE " + std::to_string(gid) +
+                           " that this rank does not own");
   }
-  for (auto& s : sigma_) {
+  const RowMajor3 row = sigma_[gid - ctx_.first_rve];
+  return std::string(reinterpret_cast<const char*>(row.data()), 9 * sizeof(double));
+}
+
+void ElasticBackend::adopt(std::uint64_t first_rve, std::uint64_t n_rve,
+                           std::map<std::uint64_t, std::string> incoming) {
+  std::vector<Eigen::Matrix3d> next(n_rve);
+  for (std::uint64_t k = 0; k < n_rve; ++k) {
+    const std::uint64_t gid = first_rve + k;
+    if (gid >= ctx_.first_rve && gid < ctx_.first_rve + ctx_.n_rve) {
+      next[k] = sigma_[gid - ctx_.first_rve];
+      continue;
+    }
+    const auto it = incoming.find(gid);
+    if (it == incoming.end() || it->second.size() != 9 * sizeof(double)) {
+      throw std::runtime_error("elastic backend: no valid state received for RVE " +
+                               std::to_string(gid));
+    }
     RowMajor3 row;
-    in.read(reinterpret_cast<char*>(row.data()), 9 * sizeof(double));
-    s = row;
+    std::memcpy(row.data(), it->second.data(), 9 * sizeof(double));
+    next[k] = row;
   }
-  if (!in) throw std::runtime_error(file.string() + " is truncated");
+  sigma_ = std::move(next);
+  ctx_.first_rve = first_rve;
+  ctx_.n_rve = n_rve;
 }
 
 std::unique_ptr<RveBackend> make_elastic_backend(const config::Config& cfg) {

@@ -36,6 +36,9 @@ class ElasticBackend : public RveBackend {
   // One binary file per rank: <dir>/elastic_rank<r>.bin (first RVE, count, stresses).
   void checkpoint(const std::filesystem::path& dir) override;
   void restore(const std::filesystem::path& dir) override;
+  std::string export_rve(std::uint64_t gid) override;
+  void adopt(std::uint64_t first_rve, std::uint64_t n_rve,
+             std::map<std::uint64_t, std::string> incoming) override;
 
  private:
   void fill_reply(std::size_t i, protocol::RveReply& reply) const;

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -16,7 +17,7 @@
 namespace mpmdem::dem {
 namespace {
 
-constexpr int kReplyWidth = 18;  // doubles per RVE from mpmdem_rve.REPLY_WIDTH
+constexpr int kReplyWidth = 19;  // doubles per RVE from mpmdem_rve.REPLY_WIDTH
 bool g_python_used = false;      // Python cannot be re-initialised with YADE loaded
 
 // The pending Python error as text ("Type: message"), cleared.
@@ -152,6 +153,44 @@ class YadeBackend final : public RveBackend {
 
   std::string last_fault_message() const override { return fault_; }
 
+  std::string export_rve(std::uint64_t gid) override {
+    PyObject* r = checked(
+        PyObject_CallMethod(set_, "export", "K", static_cast<unsigned long long>(gid)), "export");
+    char* data = nullptr;
+    Py_ssize_t size = 0;
+    if (!PyBytes_Check(r) || PyBytes_AsStringAndSize(r, &data, &size) != 0) {
+      Py_DECREF(r);
+      throw std::runtime_error("yade backend: mpmdem_rve.export did not return bytes");
+    }
+    std::string blob(data, static_cast<std::size_t>(size));
+    Py_DECREF(r);
+    return blob;
+  }
+
+  void adopt(std::uint64_t first_rve, std::uint64_t n_rve,
+             std::map<std::uint64_t, std::string> incoming) override {
+    PyObject* dict = checked(PyDict_New(), "adopt");
+    for (const auto& [gid, blob] : incoming) {
+      PyObject* key = PyLong_FromUnsignedLongLong(gid);
+      PyObject* value =
+          PyBytes_FromStringAndSize(blob.data(), static_cast<Py_ssize_t>(blob.size()));
+      const int rc = (key && value) ? PyDict_SetItem(dict, key, value) : -1;
+      Py_XDECREF(key);
+      Py_XDECREF(value);
+      if (rc != 0) {
+        Py_DECREF(dict);
+        checked(nullptr, "adopt");
+      }
+    }
+    PyObject* r =
+        PyObject_CallMethod(set_, "adopt", "KKO", static_cast<unsigned long long>(first_rve),
+                            static_cast<unsigned long long>(n_rve), dict);
+    Py_DECREF(dict);
+    Py_DECREF(checked(r, "adopt"));
+    ctx_.first_rve = first_rve;
+    ctx_.n_rve = n_rve;
+  }
+
  private:
   std::filesystem::path rank_dir(const std::filesystem::path& dir) const {
     return dir / ("rank_" + std::to_string(ctx_.rank));
@@ -183,6 +222,7 @@ class YadeBackend final : public RveBackend {
       out.stiffness = r[15];
       out.status = static_cast<std::int32_t>(r[16]);
       out.n_substeps = static_cast<std::int32_t>(r[17]);
+      out.cost_s = r[18];
     }
     fault_.clear();
     for (Py_ssize_t i = 0; faults != nullptr && i < PyList_Size(faults); ++i) {

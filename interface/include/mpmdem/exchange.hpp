@@ -71,6 +71,9 @@ class RveClient {
             std::vector<protocol::RveReply>& replies);
   // Servers save their RVEs under `path` (a directory; each rank writes its own file).
   void checkpoint(const std::string& path, std::int64_t step);
+  // Load balance (kRebalance): the server ranks move RVE states so that rank r owns
+  // `next[r]` (contiguous, in order, covering every RVE); later exchanges use it.
+  void rebalance(const std::vector<Partition>& next, std::int64_t step);
   // Orderly end: Shutdown message, disconnect.
   void shutdown();
   // Give up (own error): Abort message carrying `message`, disconnect. Never throws;
@@ -131,8 +134,12 @@ class RveServerChannel {
   void receive(std::vector<protocol::RveRequest>& requests);
   // Replies of this rank's RVEs, then this rank's report.
   void send(const std::vector<protocol::RveReply>& replies, const protocol::RankReport& report);
-  // Report only (kCheckpoint).
+  // Report only (kCheckpoint, kRebalance).
   void send_report(const protocol::RankReport& report);
+  // kRebalance: the new partition of every rank (broadcast by the client); set_partition
+  // makes this rank's part the one later exchanges use.
+  std::vector<Partition> receive_partition();
+  void set_partition(Partition mine) { mine_ = mine; }
   void close();  // collective disconnect
 
  private:

@@ -26,4 +26,12 @@ inline std::vector<Partition> partition_contiguous(std::uint64_t n, int parts) {
   return result;
 }
 
+// Contiguous ranges of [0, cost.size()) for `parts` ranks that minimise the largest sum of
+// cost (the bottleneck rank): bisection on the bottleneck, greedy fill from the left. Every
+// range holds at least one item when cost.size() >= parts. Costs must be >= 0.
+std::vector<Partition> partition_by_cost(const std::vector<double>& cost, int parts);
+
+// Largest range sum over the mean range sum (1: perfectly balanced).
+double partition_imbalance(const std::vector<double>& cost, const std::vector<Partition>& parts);
+
 }  // namespace mpmdem

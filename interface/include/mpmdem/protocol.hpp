@@ -20,8 +20,9 @@
 
 namespace mpmdem::protocol {
 
-inline constexpr std::uint16_t kVersionMajor = 1;
-inline constexpr std::uint16_t kVersionMinor = 1;  // 1.1: particles in kInitialise replies
+// 1.1: particles in kInitialise replies. 2.0: RveReply::cost_s; kRebalance (load balance).
+inline constexpr std::uint16_t kVersionMajor = 2;
+inline constexpr std::uint16_t kVersionMinor = 0;
 
 // "MPMD" in ASCII; a peer that reads another value speaks another protocol or byte order.
 inline constexpr std::uint32_t kMagic = 0x4D504D44u;
@@ -34,6 +35,9 @@ enum class MessageKind : std::int32_t {
   kCheckpoint = 4,  // servers save their RVE states under ControlHeader::path
   kShutdown = 5,    // orderly end; both sides disconnect
   kAbort = 6,       // client gives up (its own error); servers exit non-zero after cleanup
+  kRebalance = 7,   // (2.0) new contiguous partition: the client broadcasts n_ranks + 1
+                    // uint64 offsets; server ranks move RVE states among themselves, then
+                    // each sends its RankReport
 };
 
 // Optional per-RVE outputs, requested by the scene (Hello::outputs). A server computes only
@@ -109,6 +113,7 @@ struct RveReply {
   double coordination;      // mean contacts per particle [-] if requested
   double unbalanced_force;  // YADE's unbalancedForce() [-] if requested
   double stiffness;         // constrained (P-wave) modulus estimate for the CFL step [Pa]
+  double cost_s;            // (2.0) backend wall time spent on this RVE in this exchange [s]
   std::int32_t status;      // RveStatus
   std::int32_t n_substeps;  // kStep: DEM substeps used; kInitialise (since 1.1): particles in
                             // the RVE; 0 for closed-form backends
@@ -128,7 +133,7 @@ static_assert(sizeof(ControlHeader) == 256, "ControlHeader layout changed: bump 
 static_assert(sizeof(Hello) == 120, "Hello layout changed: bump kVersionMajor");
 static_assert(sizeof(RveInit) == 72, "RveInit layout changed: bump kVersionMajor");
 static_assert(sizeof(RveRequest) == 88, "RveRequest layout changed: bump kVersionMajor");
-static_assert(sizeof(RveReply) == 136, "RveReply layout changed: bump kVersionMajor");
+static_assert(sizeof(RveReply) == 144, "RveReply layout changed: bump kVersionMajor");
 static_assert(sizeof(RankReport) == 256, "RankReport layout changed: bump kVersionMajor");
 static_assert(std::is_trivially_copyable_v<ControlHeader> &&
               std::is_standard_layout_v<ControlHeader>);

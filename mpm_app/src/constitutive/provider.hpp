@@ -56,6 +56,8 @@ class ConstitutiveProvider {
   virtual ProviderTiming last_timing() const { return {}; }
   // Particles in all RVEs at initialisation (remote; 0 for local models).
   virtual std::int64_t rve_particles() const { return 0; }
+  // Load-balance migrations so far in this process (remote; coupling.load_balance).
+  virtual std::int64_t rebalances() const { return 0; }
   // Orderly end (remote: shutdown message).
   virtual void finish() {}
 };

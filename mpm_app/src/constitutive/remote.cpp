@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "constitutive/load_balancer.hpp"
 #include "mpmdem/exchange.hpp"
 
 namespace mpmdem::mpm {
@@ -17,7 +18,9 @@ using RowMajor3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
 
 class RemoteProvider : public ConstitutiveProvider {
  public:
-  RemoteProvider(const Scene& scene, std::size_t n_points, const std::string& run_dir) {
+  RemoteProvider(const Scene& scene, std::size_t n_points, const std::string& run_dir)
+      : balancer_(scene.coupling.load_balance_threshold, scene.coupling.load_balance_min_interval,
+                  scene.coupling.load_balance_smoothing) {
     ConnectOptions opts;
     opts.service_name = scene.coupling.service_name;
     opts.port_file = std::filesystem::path(run_dir) / scene.coupling.port_file;
@@ -77,7 +80,19 @@ class RemoteProvider : public ConstitutiveProvider {
     header.dt = dt;
     client_.step(header, requests_, replies_);
     to_responses(replies_, out);
+    if (auto next = balancer_.observe(step, replies_, client_.partitions())) {
+      const double t0 = MPI_Wtime();
+      client_.rebalance(*next, step);
+      balancer_.applied(step);
+      std::cerr << "mpm_app: [step " << step << "] load balance: RVEs moved between the "
+                << client_.server_ranks() << " DEM ranks; smoothed-cost imbalance "
+                << balancer_.last_imbalance_before() << " -> "
+                << balancer_.last_imbalance_predicted() << " (" << (MPI_Wtime() - t0) << " s)"
+                << std::endl;
+    }
   }
+
+  std::int64_t rebalances() const override { return balancer_.rebalances(); }
 
   // The servers were started with --restore: ask them for the state they restored.
   void resume(const std::vector<Mat3>& stress, std::vector<PointResponse>& out) override {
@@ -116,6 +131,7 @@ class RemoteProvider : public ConstitutiveProvider {
   }
 
   RveClient client_;
+  LoadBalancer balancer_;
   std::int64_t particles_ = 0;
   std::vector<protocol::RveRequest> requests_;
   std::vector<protocol::RveReply> replies_;

@@ -1,0 +1,134 @@
+// Cost-aware load balance (issue 5, item 4): the partition algorithm and the client's
+// balancer. Migration itself is tested end to end in tests/integration/load_balance.sh.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <numeric>
+#include <random>
+#include <vector>
+
+#include "constitutive/load_balancer.hpp"
+#include "mpmdem/partition.hpp"
+
+namespace mpmdem {
+namespace {
+
+void expect_valid(const std::vector<Partition>& parts, std::size_t n, int ranks) {
+  ASSERT_EQ(parts.size(), static_cast<std::size_t>(ranks));
+  std::uint64_t next = 0;
+  for (const Partition& p : parts) {
+    EXPECT_EQ(p.offset, next) << "ranges must be contiguous and in order";
+    if (n >= static_cast<std::size_t>(ranks)) {
+      EXPECT_GE(p.count, 1u) << "empty rank";
+    }
+    next += p.count;
+  }
+  EXPECT_EQ(next, n) << "every RVE must be owned";
+}
+
+double worst(const std::vector<double>& c, const std::vector<Partition>& parts) {
+  double w = 0.0;
+  for (const Partition& p : parts) {
+    w = std::max(w,
+                 std::accumulate(c.begin() + static_cast<std::ptrdiff_t>(p.offset),
+                                 c.begin() + static_cast<std::ptrdiff_t>(p.offset + p.count), 0.0));
+  }
+  return w;
+}
+
+// Brute force over all contiguous splits into 3 ranges: the optimum bottleneck.
+double best_of_three(const std::vector<double>& c) {
+  double best = 1e300;
+  for (std::size_t a = 1; a + 2 <= c.size(); ++a) {
+    for (std::size_t b = a + 1; b + 1 <= c.size(); ++b) {
+      const std::vector<Partition> p{{0, a}, {a, b - a}, {b, c.size() - b}};
+      best = std::min(best, worst(c, p));
+    }
+  }
+  return best;
+}
+
+TEST(PartitionByCost, UniformCostGivesTheEvenSplit) {
+  const std::vector<double> c(10, 1.0);
+  const auto p = partition_by_cost(c, 3);
+  expect_valid(p, 10, 3);
+  EXPECT_DOUBLE_EQ(worst(c, p), 4.0);  // ceil(10/3)
+}
+
+TEST(PartitionByCost, ExpensiveTailIsSpreadOverMoreRanks) {
+  // The column's spreading front: the last quarter of the RVEs costs 4x (tiled cells).
+  std::vector<double> c(240, 1.0);
+  for (std::size_t i = 180; i < 240; ++i) c[i] = 4.0;
+  const auto even = partition_contiguous(240, 2);
+  const auto p = partition_by_cost(c, 2);
+  expect_valid(p, 240, 2);
+  EXPECT_GT(partition_imbalance(c, even), 1.4);                     // 300 of a mean 210: 1.43
+  EXPECT_LT(partition_imbalance(c, p), 1.0 + 4.0 / 210.0 + 1e-12);  // within one RVE of ideal
+}
+
+TEST(PartitionByCost, MatchesTheBruteForceOptimum) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int trial = 0; trial < 50; ++trial) {
+    std::vector<double> c(3 + trial % 12);
+    for (double& x : c) x = u(rng) < 0.2 ? 10.0 * u(rng) : u(rng);
+    const auto p = partition_by_cost(c, 3);
+    expect_valid(p, c.size(), 3);
+    EXPECT_NEAR(worst(c, p), best_of_three(c), 1e-9 * best_of_three(c)) << "trial " << trial;
+  }
+}
+
+TEST(PartitionByCost, FewerRvesThanRanksAndZeroCosts) {
+  const auto p = partition_by_cost({1.0, 2.0}, 4);
+  expect_valid(p, 2, 4);
+  const auto z = partition_by_cost(std::vector<double>(7, 0.0), 3);
+  expect_valid(z, 7, 3);
+  const auto even = partition_contiguous(7, 3);
+  for (std::size_t r = 0; r < 3; ++r) EXPECT_EQ(z[r].count, even[r].count);
+}
+
+std::vector<protocol::RveReply> replies_with_cost(const std::vector<double>& c) {
+  std::vector<protocol::RveReply> r(c.size(), protocol::RveReply{});
+  for (std::size_t i = 0; i < c.size(); ++i) r[i].cost_s = c[i];
+  return r;
+}
+
+TEST(LoadBalancer, OffByDefaultAndHonoursThresholdAndInterval) {
+  std::vector<double> c(100, 1e-3);
+  for (std::size_t i = 75; i < 100; ++i) c[i] = 4e-3;  // imbalance of the even split: 1.43
+  const auto even = partition_contiguous(100, 2);
+  const auto replies = replies_with_cost(c);
+
+  mpm::LoadBalancer off(0.0, 1, 1.0);
+  for (int s = 1; s < 20; ++s) EXPECT_FALSE(off.observe(s, replies, even).has_value());
+
+  mpm::LoadBalancer lb(0.1, 10, 1.0);
+  for (int s = 1; s <= 10; ++s) EXPECT_FALSE(lb.observe(s, replies, even).has_value()) << s;
+  const auto next = lb.observe(11, replies, even);
+  ASSERT_TRUE(next.has_value());
+  expect_valid(*next, 100, 2);
+  EXPECT_NEAR(lb.last_imbalance_before(), 0.125 / 0.0875, 1e-9);  // 1.43
+  EXPECT_LT(lb.last_imbalance_predicted(), 1.02);
+  lb.applied(11);
+  EXPECT_EQ(lb.rebalances(), 1);
+  // Balanced now: nothing more to do, and not before min_interval anyway.
+  for (int s = 12; s < 40; ++s) EXPECT_FALSE(lb.observe(s, replies, *next).has_value()) << s;
+
+  mpm::LoadBalancer loose(0.5, 1, 1.0);  // 1.43 < 1.5: within the threshold
+  for (int s = 1; s < 5; ++s) EXPECT_FALSE(loose.observe(s, replies, even).has_value());
+}
+
+TEST(LoadBalancer, SmoothingDampsASingleSpike) {
+  const auto even = partition_contiguous(10, 2);
+  mpm::LoadBalancer lb(0.2, 1, 0.1);
+  const std::vector<double> flat(10, 1.0);
+  std::vector<double> spike = flat;
+  spike[0] = 5.0;  // one slow step of one RVE
+  EXPECT_FALSE(lb.observe(1, replies_with_cost(flat), even).has_value());
+  EXPECT_FALSE(lb.observe(2, replies_with_cost(spike), even).has_value())
+      << "smoothed: 1 + 0.1 * 4 = 1.4 on rank 0 -> imbalance 1.04 < 1.2";
+  EXPECT_NEAR(lb.smoothed_cost()[0], 1.4, 1e-12);
+}
+
+}  // namespace
+}  // namespace mpmdem

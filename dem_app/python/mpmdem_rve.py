@@ -241,12 +241,19 @@ class RveSet:
         self.step_no = step_no
         out = []
         faults = []
+        cache = self.__dict__.setdefault("_last_reply", {})
         for k, gid in enumerate(self.ids):
             t0 = time.perf_counter()
+            if flags[k] & 2 and gid in cache:  # kFlagSkip: the last reply, nothing computed
+                r = list(cache[gid])
+                r[17] = 0.0
+                r[18] = time.perf_counter() - t0
+                out.extend(r)
+                continue
             O.switchToScene(self.scenes[k])
             s = self.state[k]
             ns = 0
-            if not (flags[k] & 1):
+            if not (flags[k] & 3):  # neither query-only nor skip (skip without a cached reply)
                 dF = dFs[9 * k : 9 * k + 9]
                 ns = self.n_substeps(dF)
                 self._pending = s["pending"]
@@ -261,6 +268,7 @@ class RveSet:
             self._regularise_cell(k, gid)
             r, status = self._reply(k, out, status, ns)
             r[18] = time.perf_counter() - t0  # this RVE's cost (load balance)
+            cache[gid] = r
             out.extend(r)
             if status in (NON_FINITE, EXPLODING):
                 faults.append(self._fault(gid, status, " (kinetic energy %g J)" % ke))
@@ -364,6 +372,9 @@ class RveSet:
     def checkpoint(self, d):
         O = self.y.O
         os.makedirs(d, exist_ok=True)
+        # Replies after a checkpoint come from the reloaded scenes, in this run as in one
+        # resumed from it (kFlagSkip's cache is not saved): same path, same bits.
+        self._last_reply = {}
         for k, gid in enumerate(self.ids):
             O.switchToScene(self.scenes[k])
             path = os.path.join(d, "rve_%d.yade.bz2" % gid)

@@ -39,6 +39,14 @@ void add_coupling_keys(config::Schema& s) {
             "file holding the server's MPI port name, relative to the run directory; "
             "removed when the server closes")
             .def("dem_port.txt"));
+  s.add(key("coupling.lazy_tolerance", Type::kDouble, "-",
+            "lazy RVE evaluation: an RVE whose accumulated dF since its last evaluation "
+            "differs from the identity by at most this (largest |dF_acc - I| component) is "
+            "not run; its stress is held and the accumulated dF applied when it next runs. "
+            "0: every RVE runs every step")
+            .def("0")
+            .ge(0)
+            .lt(1));
   s.add(key("coupling.load_balance", Type::kMap, "",
             "cost-aware load balance of the RVEs over the server ranks (docs/protocol.md)"));
   s.add(key("coupling.load_balance.threshold", Type::kDouble, "-",

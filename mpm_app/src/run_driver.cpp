@@ -161,6 +161,7 @@ class Run {
                           ? local_provider(n)
                           : make_remote_provider(scene_, n, dir_);
       solver_ = std::make_unique<Solver>(scene_, std::move(state), std::move(provider));
+      solver_->provider().load_state(resumed_.provider_state);
     } catch (const RunDirectoryError& e) {
       return setup_failed(e.what(), kExitConfigError);
     } catch (const HandshakeError& e) {
@@ -211,6 +212,7 @@ class Run {
     d.dt_max_s = s().dt_max_s;
     d.mass_initial_kg = s().mass_initial_kg;
     d.rve_particles = rve_particles();
+    d.provider_state = solver_->provider().save_state();
     if (timings_) timings_->flush();
     write_mpm_checkpoint(dir, solver_->state(), d);
     solver_->provider().checkpoint(dir + "/dem", solver_->step_count());
@@ -488,6 +490,10 @@ class Run {
       sum.analysis.emplace_back("n_rve_particles", static_cast<double>(rve_particles()));
       sum.analysis.emplace_back("rebalances",
                                 static_cast<double>(solver_->provider().rebalances()));
+      sum.analysis.emplace_back("rve_evaluations",
+                                static_cast<double>(solver_->provider().rve_evaluations()));
+      sum.analysis.emplace_back("rve_skipped",
+                                static_cast<double>(solver_->provider().rve_skipped()));
       sum.analysis.emplace_back("rve_no_contact_updates",
                                 static_cast<double>(solver_->no_contact_updates()));
       sum.analysis.emplace_back("rve_no_contact_points_final",

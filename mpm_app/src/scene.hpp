@@ -105,6 +105,7 @@ struct CouplingParams {
   std::string service_name = "mpmdem";
   double connect_timeout_s = 60.0;
   std::string port_file = "dem_port.txt";  // relative to the run directory
+  double lazy_tolerance = 0.0;             // coupling.lazy_tolerance: 0 = off
   double load_balance_threshold = 0.0;     // coupling.load_balance.*: 0 = off
   std::int64_t load_balance_min_interval = 50;
   double load_balance_smoothing = 0.2;

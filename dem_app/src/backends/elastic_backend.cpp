@@ -48,7 +48,7 @@ void ElasticBackend::step(const protocol::ControlHeader& /*header*/,
   using Clock = std::chrono::steady_clock;
   for (std::size_t i = 0; i < sigma_.size(); ++i) {
     const auto t0 = Clock::now();
-    if (!(req[i].flags & protocol::kFlagQueryOnly)) {
+    if (!(req[i].flags & (protocol::kFlagQueryOnly | protocol::kFlagSkip))) {
       const Eigen::Matrix3d dF = Eigen::Map<const RowMajor3>(req[i].dF);
       sigma_[i] = law.update(sigma_[i], dF);
     }

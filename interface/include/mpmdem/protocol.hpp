@@ -21,8 +21,9 @@
 namespace mpmdem::protocol {
 
 // 1.1: particles in kInitialise replies. 2.0: RveReply::cost_s; kRebalance (load balance).
+// 2.1: kFlagSkip (lazy RVE evaluation).
 inline constexpr std::uint16_t kVersionMajor = 2;
-inline constexpr std::uint16_t kVersionMinor = 0;
+inline constexpr std::uint16_t kVersionMinor = 1;
 
 // "MPMD" in ASCII; a peer that reads another value speaks another protocol or byte order.
 inline constexpr std::uint32_t kMagic = 0x4D504D44u;
@@ -53,6 +54,8 @@ inline constexpr std::uint32_t kKnownOutputs = 0xFu;
 // RveRequest::flags.
 enum RequestFlags : std::uint32_t {
   kFlagQueryOnly = 1u << 0,  // apply nothing; report the current state (dF ignored)
+  kFlagSkip = 1u << 1,       // (2.1) lazy evaluation: apply nothing and return the RVE's last
+                             // reply as it is (n_substeps 0); dF ignored
 };
 
 // Per-RVE status in RveReply::status. Non-zero is not always fatal: see each value.

@@ -58,6 +58,14 @@ class ConstitutiveProvider {
   virtual std::int64_t rve_particles() const { return 0; }
   // Load-balance migrations so far in this process (remote; coupling.load_balance).
   virtual std::int64_t rebalances() const { return 0; }
+  // Lazy RVE evaluation (remote; coupling.lazy_tolerance): RVE runs and skipped runs so far
+  // (over the whole run, also across a resume).
+  virtual std::int64_t rve_evaluations() const { return 0; }
+  virtual std::int64_t rve_skipped() const { return 0; }
+  // State a provider keeps between steps that a checkpoint must carry (remote: the pending
+  // accumulated dF of lazily skipped RVEs); restored after resume().
+  virtual std::vector<double> save_state() const { return {}; }
+  virtual void load_state(const std::vector<double>& /*state*/) {}
   // Orderly end (remote: shutdown message).
   virtual void finish() {}
 };

@@ -6,7 +6,9 @@
 #include <exception>
 #include <filesystem>
 #include <iostream>
+#include <stdexcept>
 
+#include "constitutive/lazy_evaluation.hpp"
 #include "constitutive/load_balancer.hpp"
 #include "mpmdem/exchange.hpp"
 
@@ -19,7 +21,8 @@ using RowMajor3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
 class RemoteProvider : public ConstitutiveProvider {
  public:
   RemoteProvider(const Scene& scene, std::size_t n_points, const std::string& run_dir)
-      : balancer_(scene.coupling.load_balance_threshold, scene.coupling.load_balance_min_interval,
+      : lazy_(scene.coupling.lazy_tolerance),
+        balancer_(scene.coupling.load_balance_threshold, scene.coupling.load_balance_min_interval,
                   scene.coupling.load_balance_smoothing) {
     ConnectOptions opts;
     opts.service_name = scene.coupling.service_name;
@@ -68,10 +71,15 @@ class RemoteProvider : public ConstitutiveProvider {
     requests_.resize(dF.size());
     for (std::size_t p = 0; p < dF.size(); ++p) {
       protocol::RveRequest& r = requests_[p];
-      Eigen::Map<RowMajor3>(r.dF) = dF[p];  // row-major: dF[3*i + j] = dF_ij
-      r.dt = dt;
       r.flags = 0;
       r.reserved = 0;
+      Mat3 run_dF;
+      if (lazy_.next(p, dF[p], dt, run_dF, r.dt)) {
+        Eigen::Map<RowMajor3>(r.dF) = run_dF;  // row-major: dF[3*i + j] = dF_ij
+      } else {
+        Eigen::Map<RowMajor3>(r.dF) = Mat3::Identity();
+        r.flags = protocol::kFlagSkip;  // the server returns the RVE's last reply
+      }
     }
     protocol::ControlHeader header;
     std::memset(&header, 0, sizeof header);
@@ -93,6 +101,12 @@ class RemoteProvider : public ConstitutiveProvider {
   }
 
   std::int64_t rebalances() const override { return balancer_.rebalances(); }
+  std::int64_t rve_evaluations() const override { return lazy_.evaluations(); }
+  std::int64_t rve_skipped() const override { return lazy_.skipped(); }
+  std::vector<double> save_state() const override { return lazy_.save(); }
+  void load_state(const std::vector<double>& s) override {
+    if (!s.empty()) lazy_.load(s);  // empty: a checkpoint written before lazy evaluation
+  }
 
   // The servers were started with --restore: ask them for the state they restored.
   void resume(const std::vector<Mat3>& stress, std::vector<PointResponse>& out) override {
@@ -131,6 +145,7 @@ class RemoteProvider : public ConstitutiveProvider {
   }
 
   RveClient client_;
+  LazyEvaluation lazy_;
   LoadBalancer balancer_;
   std::int64_t particles_ = 0;
   std::vector<protocol::RveRequest> requests_;

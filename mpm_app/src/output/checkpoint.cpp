@@ -78,6 +78,7 @@ void write_mpm_checkpoint(const std::string& dir, const SolverState& s, const Dr
     f.write("slot", std::vector<std::int64_t>(s.slot.begin(), s.slot.end()));
     f.write("constraint_active", to_int32(s.constraint_active));
     f.write("frame_times", d.frame_times, {d.frame_times.size()});
+    f.write("provider_state", d.provider_state, {d.provider_state.size()});
     f.write("snapshots_done", to_int32(d.snapshots_done));
     f.attribute("n_slots", static_cast<std::int64_t>(s.n_slots));
     f.attribute("time", s.time);
@@ -170,6 +171,7 @@ void read_mpm_checkpoint(const std::string& dir, SolverState& s, DriverState& d)
   s.no_contact_updates = f.attribute_int64("no_contact_updates");
   s.removed = static_cast<std::size_t>(f.attribute_int64("removed"));
   d.frame_times = f.read_doubles("frame_times");
+  if (f.has("provider_state")) d.provider_state = f.read_doubles("provider_state");
   d.next_frame = f.attribute_double("next_frame");
   d.next_energy = f.attribute_double("next_energy");
   d.last_frame_step = f.attribute_int64("last_frame_step");

@@ -32,6 +32,7 @@ struct DriverState {
   double step_wall_time_s = 0.0, step_cpu_time_s = 0.0, wall_time_s = 0.0;
   double dt_min_s = 0.0, dt_max_s = 0.0, mass_initial_kg = 0.0;
   std::int64_t rve_particles = 0;
+  std::vector<double> provider_state;  // ConstitutiveProvider::save_state() (may be empty)
 };
 
 std::string checkpoint_directory(const std::string& run_dir, std::int64_t step);

@@ -406,15 +406,20 @@ bool RveServerChannel::next(ControlHeader& header) {
 
 void RveServerChannel::receive(std::vector<RveInit>& init) {
   init.resize(mine_.count);
-  MPMDEM_CHECK_MPI(MPI_Scatterv(nullptr, nullptr, nullptr, types_.init, init.data(),
-                                static_cast<int>(mine_.count), types_.init, 0, conn_.intercomm()));
+  MPI_Request request = MPI_REQUEST_NULL;
+  MPMDEM_CHECK_MPI(MPI_Iscatterv(nullptr, nullptr, nullptr, types_.init, init.data(),
+                                 static_cast<int>(mine_.count), types_.init, 0, conn_.intercomm(),
+                                 &request));
+  wait_politely(request);
 }
 
 void RveServerChannel::receive(std::vector<RveRequest>& requests) {
   requests.resize(mine_.count);
-  MPMDEM_CHECK_MPI(MPI_Scatterv(nullptr, nullptr, nullptr, types_.request, requests.data(),
-                                static_cast<int>(mine_.count), types_.request, 0,
-                                conn_.intercomm()));
+  MPI_Request request = MPI_REQUEST_NULL;
+  MPMDEM_CHECK_MPI(MPI_Iscatterv(nullptr, nullptr, nullptr, types_.request, requests.data(),
+                                 static_cast<int>(mine_.count), types_.request, 0,
+                                 conn_.intercomm(), &request));
+  wait_politely(request);
 }
 
 void RveServerChannel::send(const std::vector<RveReply>& replies, const RankReport& report) {
@@ -428,14 +433,18 @@ void RveServerChannel::send(const std::vector<RveReply>& replies, const RankRepo
 }
 
 void RveServerChannel::send_report(const RankReport& report) {
-  MPMDEM_CHECK_MPI(
-      MPI_Gather(&report, 1, types_.report, nullptr, 0, types_.report, 0, conn_.intercomm()));
+  MPI_Request request = MPI_REQUEST_NULL;
+  MPMDEM_CHECK_MPI(MPI_Igather(&report, 1, types_.report, nullptr, 0, types_.report, 0,
+                               conn_.intercomm(), &request));
+  wait_politely(request);
 }
 
 std::vector<Partition> RveServerChannel::receive_partition() {
   std::vector<std::uint64_t> offsets(static_cast<std::size_t>(conn_.local_size()) + 1);
-  MPMDEM_CHECK_MPI(MPI_Bcast(offsets.data(), static_cast<int>(offsets.size()), MPI_UINT64_T, 0,
-                             conn_.intercomm()));
+  MPI_Request request = MPI_REQUEST_NULL;
+  MPMDEM_CHECK_MPI(MPI_Ibcast(offsets.data(), static_cast<int>(offsets.size()), MPI_UINT64_T, 0,
+                              conn_.intercomm(), &request));
+  wait_politely(request);
   std::vector<Partition> parts;
   for (std::size_t r = 0; r + 1 < offsets.size(); ++r) {
     if (offsets[r + 1] < offsets[r] || offsets.front() != 0 || offsets.back() != n_rve_) {

@@ -29,11 +29,8 @@ ok() { echo "ok: $*"; }
 
 # The elastic column, shorter, with a checkpoint every 100 steps (~1800 steps in all).
 sed -e 's/^  end_time: .*/  end_time: 0.22/' -e "s/^  service_name: .*/  service_name: mpmdem_fault_test/" \
+  -e 's/^  energy_interval: .*/&\n  checkpoint_interval_steps: 100\n  checkpoints_kept: 3/' \
   "$src/configs/elastic_column_remote.yaml" >"$work/scene.yaml"
-cat >>"$work/scene.yaml" <<'YAML'
-  checkpoint_interval_steps: 100
-  checkpoints_kept: 3
-YAML
 grep -q '^  checkpoint_interval_steps: 100' "$work/scene.yaml" || { echo "FAIL: scene edit" >&2; exit 1; }
 
 # 1. Run, kill DEM rank 1 after the first complete checkpoint.

@@ -7,9 +7,9 @@
 //   for (...) c.step(header, requests);       ch.receive(requests);       // S
 //   c.shutdown();                             compute...; ch.send(replies, report);  // O_F
 //                                           }
-// Every exchange: MPI_Bcast(ControlHeader) from the client root, MPI_Scatterv of the
+// Every exchange: MPI_Ibcast(ControlHeader) from the client root, MPI_Iscatterv of the
 // per-RVE payload in contiguous partitions (partition_contiguous(n_rve, server ranks)),
-// MPI_Gatherv of the replies, MPI_Gather of one RankReport per server rank. Payloads travel
+// MPI_Igatherv of the replies, MPI_Igather of one RankReport per server rank. Payloads travel
 // as derived datatypes (MPI_Type_contiguous of the struct size in bytes) so counts are
 // RVEs, not bytes. A RankReport with a fatal status makes the client throw PeerError.
 // The client waits for every collective through a PeerWatch (peer_watch.hpp): a server rank

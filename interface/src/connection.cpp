@@ -3,6 +3,7 @@
 
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -33,6 +34,15 @@ void check_mpi(int rc, const char* what, const char* file, int line) {
   throw PeerError(msg.str());
 }
 
+namespace {
+std::atomic<bool> g_abandoned{false};  // a connection was given up after its peer died
+}  // namespace
+
+void Connection::abandon() {
+  intercomm_ = MPI_COMM_NULL;
+  g_abandoned = true;
+}
+
 // ---------------------------------------------------------------------------------------
 MpiSession::MpiSession(int* argc, char*** argv, int required) {
   int initialised = 0;
@@ -60,8 +70,9 @@ MpiSession::~MpiSession() {
   MPI_Finalized(&finalised);
   if (finalised) return;
   // MPI_Finalize waits for connected processes; a peer that died would block it forever.
-  Watchdog bound(30.0, [] {
-    std::fprintf(stderr, "MPI_Finalize did not complete within 30 s (coupled peer gone?)\n");
+  const double limit = g_abandoned ? 5.0 : 30.0;
+  Watchdog bound(limit, [limit] {
+    std::fprintf(stderr, "MPI_Finalize did not complete within %g s (coupled peer gone?)\n", limit);
     std::fflush(stderr);
     std::_Exit(kExitPeerError);
   });

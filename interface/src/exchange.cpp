@@ -134,6 +134,8 @@ void RveClient::connect(const ConnectOptions& opts, HelloFields hello) {
   }
   if (auto note = minor_version_note(hs_.client, hs_.server))
     std::cerr << "mpm_app: " << *note << '\n';
+  watch_.set_peers(hs_.servers, this_host_name());
+  watch_.set_stall_limit(opts.peer_timeout_s);
   n_rve_ = hello.n_rve;
   parts_ = partition_contiguous(n_rve_, conn_.remote_size());
   counts_.clear();
@@ -144,13 +146,33 @@ void RveClient::connect(const ConnectOptions& opts, HelloFields hello) {
   }
 }
 
+void RveClient::wait(MPI_Request& request) {
+  watch_.wait(request, during_);
+}
+
 void RveClient::send_header(const ControlHeader& header) {
   ControlHeader h = header;
   const int root_arg = root() ? MPI_ROOT : MPI_PROC_NULL;
+  switch (static_cast<MessageKind>(h.kind)) {
+    case MessageKind::kInitialise:
+      during_ = "the initialisation";
+      break;
+    case MessageKind::kStep:
+      during_ = "step " + std::to_string(h.step);
+      break;
+    case MessageKind::kCheckpoint:
+      during_ = "the checkpoint after step " + std::to_string(h.step);
+      break;
+    case MessageKind::kRebalance:
+      during_ = "the rebalance after step " + std::to_string(h.step);
+      break;
+    default:
+      during_ = "the end of the run";
+  }
   try {
     MPI_Request request = MPI_REQUEST_NULL;
     MPMDEM_CHECK_MPI(MPI_Ibcast(&h, sizeof h, MPI_BYTE, root_arg, conn_.intercomm(), &request));
-    wait_politely(request);
+    wait(request);
   } catch (...) {
     broken_ = true;
     throw;
@@ -165,8 +187,10 @@ void RveClient::scatter(const std::vector<T>& items, MPI_Datatype type) {
   }
   const int root_arg = root() ? MPI_ROOT : MPI_PROC_NULL;
   try {
-    MPMDEM_CHECK_MPI(MPI_Scatterv(items.data(), counts_.data(), displs_.data(), type, nullptr, 0,
-                                  type, root_arg, conn_.intercomm()));
+    MPI_Request request = MPI_REQUEST_NULL;
+    MPMDEM_CHECK_MPI(MPI_Iscatterv(items.data(), counts_.data(), displs_.data(), type, nullptr, 0,
+                                   type, root_arg, conn_.intercomm(), &request));
+    wait(request);
   } catch (...) {
     broken_ = true;
     throw;
@@ -181,7 +205,7 @@ void RveClient::gather(std::vector<RveReply>& replies) {
     MPMDEM_CHECK_MPI(MPI_Igatherv(nullptr, 0, types_.reply, replies.data(), counts_.data(),
                                   displs_.data(), types_.reply, root_arg, conn_.intercomm(),
                                   &request));
-    wait_politely(request);
+    wait(request);
   } catch (...) {
     broken_ = true;
     throw;
@@ -192,8 +216,10 @@ void RveClient::gather_reports(const char* what) {
   reports_.resize(static_cast<std::size_t>(conn_.remote_size()));
   const int root_arg = root() ? MPI_ROOT : MPI_PROC_NULL;
   try {
-    MPMDEM_CHECK_MPI(MPI_Gather(nullptr, 0, types_.report, reports_.data(), 1, types_.report,
-                                root_arg, conn_.intercomm()));
+    MPI_Request request = MPI_REQUEST_NULL;
+    MPMDEM_CHECK_MPI(MPI_Igather(nullptr, 0, types_.report, reports_.data(), 1, types_.report,
+                                 root_arg, conn_.intercomm(), &request));
+    wait(request);
   } catch (...) {
     broken_ = true;
     throw;
@@ -284,8 +310,10 @@ void RveClient::rebalance(const std::vector<Partition>& next, std::int64_t step)
   offsets.push_back(n_rve_);
   const int root_arg = root() ? MPI_ROOT : MPI_PROC_NULL;
   try {
-    MPMDEM_CHECK_MPI(MPI_Bcast(offsets.data(), static_cast<int>(offsets.size()), MPI_UINT64_T,
-                               root_arg, conn_.intercomm()));
+    MPI_Request request = MPI_REQUEST_NULL;
+    MPMDEM_CHECK_MPI(MPI_Ibcast(offsets.data(), static_cast<int>(offsets.size()), MPI_UINT64_T,
+                                root_arg, conn_.intercomm(), &request));
+    wait(request);
   } catch (...) {
     broken_ = true;
     throw;
@@ -378,15 +406,20 @@ bool RveServerChannel::next(ControlHeader& header) {
 
 void RveServerChannel::receive(std::vector<RveInit>& init) {
   init.resize(mine_.count);
-  MPMDEM_CHECK_MPI(MPI_Scatterv(nullptr, nullptr, nullptr, types_.init, init.data(),
-                                static_cast<int>(mine_.count), types_.init, 0, conn_.intercomm()));
+  MPI_Request request = MPI_REQUEST_NULL;
+  MPMDEM_CHECK_MPI(MPI_Iscatterv(nullptr, nullptr, nullptr, types_.init, init.data(),
+                                 static_cast<int>(mine_.count), types_.init, 0, conn_.intercomm(),
+                                 &request));
+  wait_politely(request);
 }
 
 void RveServerChannel::receive(std::vector<RveRequest>& requests) {
   requests.resize(mine_.count);
-  MPMDEM_CHECK_MPI(MPI_Scatterv(nullptr, nullptr, nullptr, types_.request, requests.data(),
-                                static_cast<int>(mine_.count), types_.request, 0,
-                                conn_.intercomm()));
+  MPI_Request request = MPI_REQUEST_NULL;
+  MPMDEM_CHECK_MPI(MPI_Iscatterv(nullptr, nullptr, nullptr, types_.request, requests.data(),
+                                 static_cast<int>(mine_.count), types_.request, 0,
+                                 conn_.intercomm(), &request));
+  wait_politely(request);
 }
 
 void RveServerChannel::send(const std::vector<RveReply>& replies, const RankReport& report) {
@@ -400,14 +433,18 @@ void RveServerChannel::send(const std::vector<RveReply>& replies, const RankRepo
 }
 
 void RveServerChannel::send_report(const RankReport& report) {
-  MPMDEM_CHECK_MPI(
-      MPI_Gather(&report, 1, types_.report, nullptr, 0, types_.report, 0, conn_.intercomm()));
+  MPI_Request request = MPI_REQUEST_NULL;
+  MPMDEM_CHECK_MPI(MPI_Igather(&report, 1, types_.report, nullptr, 0, types_.report, 0,
+                               conn_.intercomm(), &request));
+  wait_politely(request);
 }
 
 std::vector<Partition> RveServerChannel::receive_partition() {
   std::vector<std::uint64_t> offsets(static_cast<std::size_t>(conn_.local_size()) + 1);
-  MPMDEM_CHECK_MPI(MPI_Bcast(offsets.data(), static_cast<int>(offsets.size()), MPI_UINT64_T, 0,
-                             conn_.intercomm()));
+  MPI_Request request = MPI_REQUEST_NULL;
+  MPMDEM_CHECK_MPI(MPI_Ibcast(offsets.data(), static_cast<int>(offsets.size()), MPI_UINT64_T, 0,
+                              conn_.intercomm(), &request));
+  wait_politely(request);
   std::vector<Partition> parts;
   for (std::size_t r = 0; r + 1 < offsets.size(); ++r) {
     if (offsets[r + 1] < offsets[r] || offsets.front() != 0 || offsets.back() != n_rve_) {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "mpmdem/errors.hpp"
+#include "mpmdem/peer_watch.hpp"
 
 #ifndef MPMDEM_VERSION
 #define MPMDEM_VERSION "unknown"
@@ -194,6 +195,18 @@ HandshakeResult exchange_hello(MPI_Comm intercomm, bool is_client, const protoco
 
   if (auto problem = check_compatible(r.client, r.server, r.client_config, r.server_config)) {
     throw HandshakeError("handshake refused: " + *problem);
+  }
+
+  // 4. who the server ranks are (pid, host), for naming and probing them later.
+  if (is_client) {
+    int remote = 0;
+    MPMDEM_CHECK_MPI(MPI_Comm_remote_size(intercomm, &remote));
+    if (rank == 0) r.servers.resize(static_cast<std::size_t>(remote));
+    MPMDEM_CHECK_MPI(MPI_Gather(nullptr, 0, MPI_BYTE, r.servers.data(),
+                                sizeof(protocol::RankIdentity), MPI_BYTE, send_root, intercomm));
+  } else {
+    const protocol::RankIdentity me = own_identity(rank);
+    MPMDEM_CHECK_MPI(MPI_Gather(&me, sizeof me, MPI_BYTE, nullptr, 0, MPI_BYTE, 0, intercomm));
   }
   return r;
 }

@@ -194,6 +194,29 @@ class Run {
   // Both sides save their state; the checkpoint counts once both are done (COMPLETE).
   void write_checkpoint() {
     const std::string dir = checkpoint_directory(dir_, solver_->step_count());
+    write_mpm_checkpoint(dir, solver_->state(), driver_state());
+    solver_->provider().checkpoint(dir + "/dem", solver_->step_count());
+    commit_checkpoint(dir_, dir, scene_.output.checkpoints_kept);
+    out_ << "[step " << solver_->step_count() << ", t=" << solver_->time() << " s] checkpoint "
+         << dir << std::endl;
+  }
+
+  // A peer fault (a DEM rank died, an MPI failure): mpm_app saves its own state, without
+  // COMPLETE (the DEM side is lost, --resume never picks it). Returns the directory, or ""
+  // if it could not be written.
+  std::string write_fault_checkpoint() {
+    const std::string dir = fault_checkpoint_directory(dir_, solver_->step_count());
+    try {
+      write_mpm_checkpoint(dir, solver_->state(), driver_state());
+      return dir;
+    } catch (const std::exception& e) {
+      err_ << "warning: writing the fault checkpoint " << dir << " failed: " << e.what()
+           << std::endl;
+      return "";
+    }
+  }
+
+  DriverState driver_state() {
     DriverState d;
     d.next_frame = next_frame_;
     d.next_energy = next_energy_;
@@ -214,11 +237,7 @@ class Run {
     d.rve_particles = rve_particles();
     d.provider_state = solver_->provider().save_state();
     if (timings_) timings_->flush();
-    write_mpm_checkpoint(dir, solver_->state(), d);
-    solver_->provider().checkpoint(dir + "/dem", solver_->step_count());
-    commit_checkpoint(dir_, dir, scene_.output.checkpoints_kept);
-    out_ << "[step " << solver_->step_count() << ", t=" << solver_->time() << " s] checkpoint "
-         << dir << std::endl;
+    return d;
   }
 
   void create_directory() {
@@ -453,6 +472,15 @@ class Run {
       msg << "at step " << solver_->step_count() << " (t=" << solver_->time() << " s): ";
     }
     msg << e.what();
+    if (dynamic_cast<const PeerError*>(&e) != nullptr &&
+        dynamic_cast<const HandshakeError*>(&e) == nullptr) {
+      const std::string fault_dir = write_fault_checkpoint();
+      if (!fault_dir.empty()) msg << "; mpm_app's own state at the fault: " << fault_dir;
+      const std::string last = latest_checkpoint(dir_);
+      msg << (last.empty() ? "; no complete checkpoint to resume from"
+                           : "; the newest checkpoint complete on both sides is " + last +
+                                 " (scripts/run --resume " + dir_ + ")");
+    }
     s().status = "failed";
     s().error = msg.str();
     err_ << "error: " << s().error << std::endl;

@@ -104,6 +104,7 @@ struct CouplingParams {
   std::uint32_t outputs = 0;  // protocol::OutputBits
   std::string service_name = "mpmdem";
   double connect_timeout_s = 60.0;
+  double peer_timeout_s = 3600.0;          // longest wait for one exchange (unprobeable ranks)
   std::string port_file = "dem_port.txt";  // relative to the run directory
   double lazy_tolerance = 0.0;             // coupling.lazy_tolerance: 0 = off
   double load_balance_threshold = 0.0;     // coupling.load_balance.*: 0 = off

@@ -8,6 +8,8 @@
 #   pair_start_client NP LOG mpm_app ARGS...   # background, output to stdout and LOG
 #   pair_start_local LOG mpm_app ARGS...       # mpm_app alone, without mpirun
 #   pair_wait_client                           # exit code of the client's mpirun
+#   pair_wait_client_watching_server GRACE     # same, stopping the client if the server
+#                                              # ended GRACE s before it (returns 4 then)
 #   pair_wait_server SECONDS                   # exit code of the server's mpirun (124: killed)
 # Each process runs in its own session (setsid), so killing its process group also stops
 # the MPI ranks that mpirun forked.
@@ -154,6 +156,34 @@ pair_start_local() {
 }
 
 pair_wait_client() {
+  local rc=0
+  wait "$PAIR_CLIENT_PID" || rc=$?
+  return $rc
+}
+
+# A server whose mpirun ended while the client still runs has lost a rank (or failed): the
+# client detects a dead rank on this host itself within a second and ends with its fault
+# checkpoint; this is the backstop for ranks it cannot probe (other hosts), bounded by GRACE.
+pair_wait_client_watching_server() {
+  local grace=$1 lost_at=""
+  while kill -0 "$PAIR_CLIENT_PID" 2>/dev/null; do
+    if [[ -z $lost_at && -n $PAIR_SERVER_PID ]] && ! kill -0 "$PAIR_SERVER_PID" 2>/dev/null; then
+      lost_at=$SECONDS
+    fi
+    if [[ -n $lost_at ]] && ((SECONDS - lost_at >= grace)); then
+      echo "error: the DEM server's mpirun ended, and mpm_app was still running $grace s later: stopped it" >&2
+      kill -TERM -- "-$PAIR_CLIENT_PID" 2>/dev/null || kill -TERM "$PAIR_CLIENT_PID" 2>/dev/null
+      local i
+      for i in $(seq 1 50); do
+        kill -0 "$PAIR_CLIENT_PID" 2>/dev/null || break
+        sleep 0.1
+      done
+      kill -KILL -- "-$PAIR_CLIENT_PID" 2>/dev/null
+      wait "$PAIR_CLIENT_PID" 2>/dev/null
+      return 4
+    fi
+    sleep 0.2
+  done
   local rc=0
   wait "$PAIR_CLIENT_PID" || rc=$?
   return $rc

@@ -20,8 +20,9 @@ namespace mpmdem {
 
 // Initialises MPI (MPI_THREAD_FUNNELED by default) unless it already is, and finalises it
 // on destruction if it initialised it (bounded: if MPI_Finalize blocks for 30 s on a dead
-// peer, the process exits with kExitPeerError). Sets MPI_ERRORS_RETURN on MPI_COMM_WORLD
-// and MPI_COMM_SELF. Throws PeerError if the thread level is too low.
+// peer, or 5 s once a connection was abandoned, the process exits with kExitPeerError). Sets
+// MPI_ERRORS_RETURN on MPI_COMM_WORLD and MPI_COMM_SELF. Throws PeerError if the thread level is
+// too low.
 class MpiSession {
  public:
   MpiSession(int* argc, char*** argv, int required = MPI_THREAD_FUNNELED);
@@ -59,6 +60,7 @@ struct ConnectOptions {
   std::string service_name = "mpmdem";  // MPI_Publish_name / MPI_Lookup_name key
   std::filesystem::path port_file;      // <run_dir>/<coupling.port_file>; empty: none
   double timeout_s = 60.0;              // coupling.connect_timeout_s
+  double peer_timeout_s = 0.0;          // client: coupling.peer_timeout_s (0: no stall limit)
   bool publish = true;                  // server: also MPI_Publish_name (needs ompi-server)
   std::string config_file;              // for messages only
 };
@@ -90,8 +92,9 @@ class Connection {
   int remote_size() const { return remote_size_; }
   // Collective MPI_Comm_disconnect (both sides must call it). Throws PeerError.
   void disconnect();
-  // Forget the intercommunicator without any MPI call (after the peer died).
-  void abandon() { intercomm_ = MPI_COMM_NULL; }
+  // Forget the intercommunicator without any MPI call (after the peer died). MPI_Finalize
+  // is then bounded by 5 s instead of 30 (MpiSession): it cannot complete with a dead peer.
+  void abandon();
 
  private:
   MPI_Comm intercomm_ = MPI_COMM_NULL;

@@ -7,6 +7,8 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace mpmdem {
 
@@ -19,6 +21,18 @@ inline constexpr int kExitPeerError = 4;       // no peer, MPI failure, peer rep
 class PeerError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
+};
+
+// A server rank died or stopped answering during an exchange (peer fault); ranks() are the
+// ranks named in the message (dead ones, or the unprobeable ones after a stall).
+class PeerLost : public PeerError {
+ public:
+  PeerLost(const std::string& what, std::vector<int> ranks)
+      : PeerError(what), ranks_(std::move(ranks)) {}
+  const std::vector<int>& ranks() const { return ranks_; }
+
+ private:
+  std::vector<int> ranks_;
 };
 
 // No peer found / accepted within the connect timeout.

@@ -7,11 +7,14 @@
 //   for (...) c.step(header, requests);       ch.receive(requests);       // S
 //   c.shutdown();                             compute...; ch.send(replies, report);  // O_F
 //                                           }
-// Every exchange: MPI_Bcast(ControlHeader) from the client root, MPI_Scatterv of the
+// Every exchange: MPI_Ibcast(ControlHeader) from the client root, MPI_Iscatterv of the
 // per-RVE payload in contiguous partitions (partition_contiguous(n_rve, server ranks)),
-// MPI_Gatherv of the replies, MPI_Gather of one RankReport per server rank. Payloads travel
+// MPI_Igatherv of the replies, MPI_Igather of one RankReport per server rank. Payloads travel
 // as derived datatypes (MPI_Type_contiguous of the struct size in bytes) so counts are
 // RVEs, not bytes. A RankReport with a fatal status makes the client throw PeerError.
+// The client waits for every collective through a PeerWatch (peer_watch.hpp): a server rank
+// that dies (or, on another host, a stall past coupling.peer_timeout_s) makes it throw
+// PeerLost naming the rank, its pid and host, and the step.
 #pragma once
 
 #include <mpi.h>
@@ -23,6 +26,7 @@
 #include "mpmdem/connection.hpp"
 #include "mpmdem/handshake.hpp"
 #include "mpmdem/partition.hpp"
+#include "mpmdem/peer_watch.hpp"
 #include "mpmdem/protocol.hpp"
 
 namespace mpmdem {
@@ -87,9 +91,11 @@ class RveClient {
   const HandshakeResult& handshake() const { return hs_; }
   const std::vector<protocol::RankReport>& last_reports() const { return reports_; }
   const ExchangeTiming& last_timing() const { return timing_; }
+  const PeerWatch& peer_watch() const { return watch_; }
 
  private:
   bool root() const { return conn_.local_rank() == 0; }
+  void wait(MPI_Request& request);
   void send_header(const protocol::ControlHeader& header);
   void gather_reports(const char* what);
   void require_connected(const char* what) const;
@@ -107,6 +113,8 @@ class RveClient {
   ExchangeTiming timing_;
   bool broken_ = false;  // an MPI call failed: the intercommunicator is unusable
   std::string program_ = "mpm_app";
+  PeerWatch watch_;
+  std::string during_;  // what the current exchange is, for fault messages ("step 57")
 };
 
 class RveServerChannel {

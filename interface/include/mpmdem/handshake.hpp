@@ -4,7 +4,9 @@
 //   1. client root bcasts its Hello (MPI_ROOT), the server ranks receive it;
 //   2. server rank 0 bcasts its Hello (MPI_ROOT; other server ranks MPI_PROC_NULL);
 //   3. if magic and major version agree: the same two broadcasts of a 256-byte
-//      NUL-terminated label (the config file each side read), used in messages only.
+//      NUL-terminated label (the config file each side read), used in messages only;
+//   4. (3.0) if compatible: every server rank sends its protocol::RankIdentity (pid, host) to
+//      the client root (MPI_Gather), which keeps them in HandshakeResult::servers.
 #pragma once
 
 #include <mpi.h>
@@ -12,6 +14,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "mpmdem/protocol.hpp"
 
@@ -50,6 +53,7 @@ struct HandshakeResult {
   protocol::Hello server;
   std::string client_config;
   std::string server_config;
+  std::vector<protocol::RankIdentity> servers;  // client root: one per server rank, by rank
 };
 
 // Run the exchange on the side given by `is_client`. Throws HandshakeError (with the

@@ -9,7 +9,8 @@
 // The handshake refuses a peer with a different major version.
 //
 // Message sequence (see docs/protocol.md):
-//   connect -> Hello exchange (both directions) -> [Initialise] -> Step* -> [Checkpoint]
+//   connect -> Hello exchange (both directions) -> RankIdentity gather -> [Initialise] -> Step* ->
+//   [Checkpoint]
 //   -> ... -> Shutdown.
 // Every exchange starts with the client broadcasting a ControlHeader; the server ranks then
 // take part in the collective(s) that the header's kind names.
@@ -21,9 +22,10 @@
 namespace mpmdem::protocol {
 
 // 1.1: particles in kInitialise replies. 2.0: RveReply::cost_s; kRebalance (load balance).
-// 2.1: kFlagSkip (lazy RVE evaluation).
-inline constexpr std::uint16_t kVersionMajor = 2;
-inline constexpr std::uint16_t kVersionMinor = 1;
+// 2.1: kFlagSkip (lazy RVE evaluation). 3.0: RankIdentity gather after the handshake (peer
+// faults: the client names and probes the server ranks).
+inline constexpr std::uint16_t kVersionMajor = 3;
+inline constexpr std::uint16_t kVersionMinor = 0;
 
 // "MPMD" in ASCII; a peer that reads another value speaks another protocol or byte order.
 inline constexpr std::uint32_t kMagic = 0x4D504D44u;
@@ -65,6 +67,15 @@ enum class RveStatus : std::int32_t {
   kNonFinite = 2,     // NaN/Inf inside the RVE: fatal for the run
   kExploding = 3,     // kinetic energy blew up: fatal for the run
   kBackendError = 4,  // backend raised an error; RankReport::message says which
+};
+
+// (3.0) Right after a successful handshake every server rank sends its own to the client
+// root (MPI_Gather): the client names a rank that dies by pid and host, and probes the ranks
+// on its own host for liveness while it waits (interface/include/mpmdem/peer_watch.hpp).
+struct RankIdentity {
+  std::int32_t rank;  // rank in the server's MPI_COMM_WORLD
+  std::int32_t pid;   // process id on `host`
+  char host[120];     // gethostname(), NUL-terminated
 };
 
 // Sent by the client at the start of every exchange (MPI_Bcast over the intercommunicator).
@@ -138,6 +149,7 @@ static_assert(sizeof(RveInit) == 72, "RveInit layout changed: bump kVersionMajor
 static_assert(sizeof(RveRequest) == 88, "RveRequest layout changed: bump kVersionMajor");
 static_assert(sizeof(RveReply) == 144, "RveReply layout changed: bump kVersionMajor");
 static_assert(sizeof(RankReport) == 256, "RankReport layout changed: bump kVersionMajor");
+static_assert(sizeof(RankIdentity) == 128, "RankIdentity layout changed: bump kVersionMajor");
 static_assert(std::is_trivially_copyable_v<ControlHeader> &&
               std::is_standard_layout_v<ControlHeader>);
 static_assert(std::is_trivially_copyable_v<Hello> && std::is_standard_layout_v<Hello>);
@@ -145,5 +157,7 @@ static_assert(std::is_trivially_copyable_v<RveInit> && std::is_standard_layout_v
 static_assert(std::is_trivially_copyable_v<RveRequest> && std::is_standard_layout_v<RveRequest>);
 static_assert(std::is_trivially_copyable_v<RveReply> && std::is_standard_layout_v<RveReply>);
 static_assert(std::is_trivially_copyable_v<RankReport> && std::is_standard_layout_v<RankReport>);
+static_assert(std::is_trivially_copyable_v<RankIdentity> &&
+              std::is_standard_layout_v<RankIdentity>);
 
 }  // namespace mpmdem::protocol

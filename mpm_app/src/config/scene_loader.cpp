@@ -249,6 +249,7 @@ CouplingParams load_coupling(const Config& cfg) {
   c.outputs = coupling_output_bits(cfg);
   c.service_name = cfg.string("coupling.service_name");
   c.connect_timeout_s = cfg.number("coupling.connect_timeout_s");
+  c.peer_timeout_s = cfg.number("coupling.peer_timeout_s");
   c.port_file = cfg.string("coupling.port_file");
   c.lazy_tolerance = cfg.number("coupling.lazy_tolerance");
   c.load_balance_threshold = cfg.number("coupling.load_balance.threshold");

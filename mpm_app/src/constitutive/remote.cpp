@@ -28,6 +28,7 @@ class RemoteProvider : public ConstitutiveProvider {
     opts.service_name = scene.coupling.service_name;
     opts.port_file = std::filesystem::path(run_dir) / scene.coupling.port_file;
     opts.timeout_s = scene.coupling.connect_timeout_s;
+    opts.peer_timeout_s = scene.coupling.peer_timeout_s;
     opts.config_file = scene.source_file;
     HelloFields hello;
     hello.program = "mpm_app";

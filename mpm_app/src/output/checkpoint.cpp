@@ -49,6 +49,12 @@ std::string checkpoint_directory(const std::string& run_dir, std::int64_t step) 
   return (fs::path(run_dir) / "checkpoints" / name).string();
 }
 
+std::string fault_checkpoint_directory(const std::string& run_dir, std::int64_t step) {
+  char name[40];
+  std::snprintf(name, sizeof name, "fault_step_%09lld", static_cast<long long>(step));
+  return (fs::path(run_dir) / "checkpoints" / name).string();
+}
+
 void write_mpm_checkpoint(const std::string& dir, const SolverState& s, const DriverState& d) {
   fs::create_directories(dir);
   const std::string path = dir + "/mpm.h5";

@@ -8,6 +8,8 @@
 //   dem/       the DEM servers' RVE states (remote model: kCheckpoint; rank_<r>/...)
 //   COMPLETE   written last, once both sides have saved: a checkpoint without it is ignored
 // Only the newest `output.checkpoints_kept` complete checkpoints are kept.
+// RUN/checkpoints/fault_step_<NNNNNNNNN>/mpm.h5: mpm_app's own state when a peer fault (a
+// DEM rank died) ended the run after step N; never COMPLETE, never resumed from (docs/outputs.md).
 #pragma once
 
 #include <cstdint>
@@ -36,6 +38,7 @@ struct DriverState {
 };
 
 std::string checkpoint_directory(const std::string& run_dir, std::int64_t step);
+std::string fault_checkpoint_directory(const std::string& run_dir, std::int64_t step);
 // Writes dir/mpm.h5 (through a temporary name). Throws std::runtime_error.
 void write_mpm_checkpoint(const std::string& dir, const SolverState& s, const DriverState& d);
 // Marks dir complete (both sides saved) and removes all but the newest `keep` complete

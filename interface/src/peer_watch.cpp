@@ -1,0 +1,123 @@
+// Liveness of the server ranks while the client waits: see peer_watch.hpp.
+#include "mpmdem/peer_watch.hpp"
+
+#include <signal.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <sstream>
+#include <thread>
+
+#include "mpmdem/errors.hpp"
+
+namespace mpmdem {
+
+namespace {
+
+std::string host_of(const protocol::RankIdentity& id) {
+  return std::string(id.host, strnlen(id.host, sizeof id.host));
+}
+
+std::string list(const std::vector<int>& ranks, const PeerWatch& w) {
+  std::string out;
+  for (std::size_t i = 0; i < ranks.size(); ++i) {
+    if (i > 0) out += i + 1 == ranks.size() ? " and " : ", ";
+    out += w.describe(ranks[i]);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string this_host_name() {
+  char buf[256] = {};
+  if (::gethostname(buf, sizeof buf - 1) != 0) return "unknown";
+  return buf;
+}
+
+protocol::RankIdentity own_identity(int rank) {
+  protocol::RankIdentity id;
+  std::memset(&id, 0, sizeof id);
+  id.rank = rank;
+  id.pid = static_cast<std::int32_t>(::getpid());
+  const std::string host = this_host_name();
+  std::memcpy(id.host, host.data(), std::min(host.size(), sizeof id.host - 1));
+  return id;
+}
+
+void PeerWatch::set_peers(std::vector<protocol::RankIdentity> peers, std::string this_host) {
+  peers_ = std::move(peers);
+  this_host_ = std::move(this_host);
+}
+
+bool PeerWatch::probeable(const protocol::RankIdentity& id) const {
+  return id.pid > 0 && !this_host_.empty() && host_of(id) == this_host_;
+}
+
+std::vector<int> PeerWatch::dead_ranks() const {
+  std::vector<int> dead;
+  for (std::size_t r = 0; r < peers_.size(); ++r) {
+    const protocol::RankIdentity& id = peers_[r];
+    if (!probeable(id)) continue;
+    // EPERM: the process exists (another user's); only ESRCH means it is gone. A zombie
+    // (killed, not yet reaped by its mpirun) still answers, but mpirun reaps at once.
+    if (::kill(static_cast<pid_t>(id.pid), 0) != 0 && errno == ESRCH)
+      dead.push_back(static_cast<int>(r));
+  }
+  return dead;
+}
+
+std::string PeerWatch::describe(int rank) const {
+  std::ostringstream s;
+  s << "DEM server rank " << rank;
+  if (rank >= 0 && static_cast<std::size_t>(rank) < peers_.size()) {
+    const protocol::RankIdentity& id = peers_[static_cast<std::size_t>(rank)];
+    s << " (pid " << id.pid << " on host " << host_of(id) << ")";
+  }
+  return s.str();
+}
+
+void PeerWatch::wait(MPI_Request& request, const std::string& during) const {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  auto next_probe = start + std::chrono::duration_cast<Clock::duration>(
+                                std::chrono::duration<double>(probe_interval_s_));
+  std::chrono::microseconds pause(20);
+  for (;;) {
+    int done = 0;
+    MPMDEM_CHECK_MPI(MPI_Test(&request, &done, MPI_STATUS_IGNORE));
+    if (done) return;
+    std::this_thread::sleep_for(pause);
+    pause = std::min(pause * 2, std::chrono::microseconds(1000));
+    const auto now = Clock::now();
+    if (now < next_probe) continue;
+    next_probe = now + std::chrono::duration_cast<Clock::duration>(
+                           std::chrono::duration<double>(probe_interval_s_));
+    if (const std::vector<int> dead = dead_ranks(); !dead.empty()) {
+      throw PeerLost(
+          list(dead, *this) + " died" + " during " + during + " (the process no longer exists)",
+          dead);
+    }
+    const double waited = std::chrono::duration<double>(now - start).count();
+    if (stall_limit_s_ > 0.0 && waited > stall_limit_s_) {
+      std::vector<int> unprobed;
+      for (std::size_t r = 0; r < peers_.size(); ++r)
+        if (!probeable(peers_[r])) unprobed.push_back(static_cast<int>(r));
+      std::ostringstream msg;
+      msg << "no reply from the DEM server within " << stall_limit_s_
+          << " s (coupling.peer_timeout_s) during " << during;
+      if (!unprobed.empty()) {
+        msg << "; ranks on other hosts, which cannot be probed: " << list(unprobed, *this);
+      } else {
+        msg << "; every server rank still runs on this host (a hung backend?)";
+      }
+      msg << ". Raise coupling.peer_timeout_s if one exchange can legitimately take longer";
+      throw PeerLost(msg.str(), unprobed);
+    }
+  }
+}
+
+}  // namespace mpmdem

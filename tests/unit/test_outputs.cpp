@@ -408,7 +408,7 @@ TEST(RunOutputs, AShortRunWritesEveryOutputConsistently) {
   EXPECT_EQ(std::stod(rows[1][0]), 0.0);
   EXPECT_EQ(rows.size() - 1, static_cast<std::size_t>(r.summary.steps) + 1);  // every step
   for (std::size_t k = 1; k < rows.size(); ++k) {
-    ASSERT_EQ(rows[k].size(), 8u);
+    ASSERT_EQ(rows[k].size(), 13u);
     const double E_p = std::stod(rows[k][3]), E_k = std::stod(rows[k][4]);
     const double E_d = std::stod(rows[k][5]), E_p0 = std::stod(rows[k][7]);
     EXPECT_NEAR(E_d, E_p0 - E_p - E_k, 1e-9 * std::abs(E_p0) + 1e-12);

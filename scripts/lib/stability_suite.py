@@ -117,7 +117,7 @@ CASES = (
     + [impact_case("linear_elastic"), impact_case("drucker_prager")]
     + [{"name": "free_fall_rves", "what": "multiscale block in free fall, 40-sphere YADE RVEs",
         "kind": "mpm", "base": "free_fall_yade.yaml", "expect": "stable", "quick": False,
-        "set": {}}]
+        "check": "free_fall", "set": {}}]
     + [element_case("dF_1e-4", "triaxial dF increments 1e-4 per step into a YADE RVE", 1e-4),
        element_case("dF_1e-3", "triaxial dF increments 1e-3 per step into a YADE RVE", 1e-3),
        element_case("dF_1e-2", "triaxial dF increments 1e-2 per step into a YADE RVE", 1e-2),
@@ -213,6 +213,35 @@ def max_velocity(run_dir):
     return vmax
 
 
+def last_frame(run_dir):
+    """(time, arrays) of the last frame listed in frames.pvd, or (None, {})."""
+    pvd = os.path.join(run_dir, "frames.pvd")
+    if not os.path.exists(pvd):
+        return None, {}
+    frames = re.findall(r'timestep="([^"]+)"[^>]*file="([^"]+)"', open(pvd).read())
+    if not frames:
+        return None, {}
+    t, f = frames[-1]
+    return float(t), vtu_float_arrays(os.path.join(run_dir, f))
+
+
+def free_fall_check(run_dir, r):
+    """Every point falls with v = g t and carries no stress once its RVE lost its contacts."""
+    t, a = last_frame(run_dir)
+    if t is None or "velocity" not in a or "stress" not in a:
+        return False, "no last frame"
+    vz = a["velocity"][:, 2]
+    rel = float(np.max(np.abs(vz + G * t)) / (G * t))
+    smax = float(np.max(np.abs(a["stress"])))
+    r["notes"].append("last frame t = %.4g s: v_z %.4g..%.4g m/s against -g t = %.4g "
+                      "(max rel. diff %.2g), max |sigma| = %.3g Pa"
+                      % (t, vz.min(), vz.max(), -G * t, rel, smax))
+    no_contacts = r["summary"].get("rve_no_contact_points_final", 0) == r["summary"].get(
+        "n_material_points", -1)
+    ok = rel < 0.02 and smax == 0.0 and no_contacts
+    return ok, "" if ok else "free fall: v != g t, stress left or contacts kept"
+
+
 # ---------------------------------------------------------------------------------------------
 # Running
 
@@ -285,6 +314,19 @@ def mpm_case(case, out, env, timeout):
     r["checked"], r["nan_files"] = non_finite_files(run_dir) if os.path.isdir(run_dir) else (0, [])
     r["stable"] = rc == 0 and r["status"] == "complete" and not r["nan_files"]
     r["summary"] = {k: v for k, v in summ.items() if isinstance(v, (int, float))}
+    r["notes"] = []
+    if "E" in case and dt0:
+        r["notes"].append("dt sqrt(E) = %.4g s Pa^0.5; c = sqrt(M/rho) = %.4g m/s, h/c = %.3g s"
+                          % (dt0 * math.sqrt(case["E"]), math.sqrt(case["M"] / case["rho"]),
+                             0.02 / math.sqrt(case["M"] / case["rho"])))
+    if "runout_m" in summ:
+        r["notes"].append("runout %.3g m, final height %.3g m (H = %.3g m), E_d/E_p0 %.3g"
+                          % (summ["runout_m"], summ.get("final_height_m", float("nan")),
+                             summ.get("initial_height_m", float("nan")),
+                             summ.get("E_d_over_E_p0", float("nan"))))
+    if case.get("check") == "free_fall" and os.path.isdir(run_dir):
+        ok, why = free_fall_check(run_dir, r)
+        r["check_failed"] = "" if ok else why
     return r
 
 
@@ -326,6 +368,15 @@ def element_case_run(case, out, env, timeout):
         r["final_p"] = -(float(last["sigma_xx"]) + float(last["sigma_yy"]) + float(last["sigma_zz"])) / 3
         r["final_q_over_p"] = float(last["q"]) / float(last["p"]) if float(last["p"]) else float("nan")
     r["faults"] = faults
+    inc = case["strain_per_step"]
+    # The proportional rule of the scene: ns = clamp(ceil(ns_factor max|dF - I|), ns_min, ns_max)
+    # with the defaults 1e5, 2, 100 (docs/config_reference.md); max|dF - I| = the axial increment.
+    ns = min(100, max(2, math.ceil(1e5 * inc - 1e-9)))
+    r["notes"] = ["ns = %d DEM substeps per step (rule)" % ns]
+    if rows:
+        r["notes"].append("final p = %.4g kPa, q/p = %.3g, porosity %.3f -> %.3f" % (
+            r["final_p"] / 1e3, r["final_q_over_p"], float(rows[0]["porosity"]),
+            float(rows[-1]["porosity"])))
     r["status"] = "complete" if rc == 0 and rows and not fatal else "failed"
     r["checked"], r["nan_files"] = non_finite_files(run_dir) if os.path.isdir(run_dir) else (0, [])
     if not finite:
@@ -338,6 +389,8 @@ def verdict(case, r):
     """Did the case behave as expected? (bool, why)."""
     if r["nan_files"]:
         return False, "non-finite values in " + ", ".join(r["nan_files"])
+    if r.get("check_failed"):
+        return False, r["check_failed"]
     if case["expect"] == "stable":
         return (True, "") if r["stable"] else (False, "expected stable, got " + r["status"])
     err = " ".join(r["faults"])
@@ -401,7 +454,7 @@ def main(argv):
 
 def write_tables(out, results, wall, quick):
     cols = ["case", "expected", "stable", "as_expected", "dt_s", "energy_err", "max_v_m_s",
-            "steps", "wall_s", "faults"]
+            "steps", "wall_s", "faults", "notes"]
     with open(os.path.join(out, "stability.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(cols)
@@ -409,7 +462,8 @@ def write_tables(out, results, wall, quick):
             w.writerow([r["name"], r["expect"], "yes" if r["stable"] else "no",
                         "yes" if r["ok"] else "no", r["dt"], fmt(r["energy_err"], "%.4g"),
                         fmt(r["max_v"], "%.4g"), r["steps"] if r["steps"] is not None else "-",
-                        "%.1f" % r["wall_s"], " | ".join(r["faults"] + ([r["why"]] if r["why"] else []))])
+                        "%.1f" % r["wall_s"], " | ".join(r["faults"] + ([r["why"]] if r["why"] else [])),
+                        " | ".join(r.get("notes", []))])
     lines = ["| case | what | stable | dt [s] | energy-balance error | max \\|v\\| [m/s] | steps | wall [s] | faults |",
              "|---|---|---|---|---|---|---|---|---|"]
     for r in results:
@@ -435,6 +489,11 @@ def write_tables(out, results, wall, quick):
         f.write("\n".join(lines) + "\n\n")
         for e in extra:
             f.write(e + "\n\n")
+        f.write("Notes per case:\n\n")
+        for r in results:
+            if r.get("notes"):
+                f.write("- %s: %s\n" % (r["name"], "; ".join(r["notes"])))
+        f.write("\n")
         nan_checked = sum(r["checked"] for r in results)
         f.write("Output files scanned for NaN/Inf: %d, with a non-finite value: %d.\n"
                 % (nan_checked, sum(len(r["nan_files"]) for r in results)))

@@ -92,7 +92,7 @@ def impact_case(model):
         "name": "impact_%s" % ("elastic" if model == "linear_elastic" else "dp"),
         "what": "bar hitting a fixed wall at 50 m/s, %s" % model.replace("_", " "),
         "kind": "mpm", "base": "impact.yaml", "expect": "stable", "quick": model == "linear_elastic",
-        "set": {"constitutive.model": model},
+        "check": "impact", "set": {"constitutive.model": model},
     }
 
 
@@ -106,7 +106,7 @@ def element_case(name, what, strain_per_step, protocol="loose", porosity=0.65, e
                 "packings.protocol": protocol, "packings.porosity_init": porosity,
                 "packings.items": [{"name": "stab_%s" % protocol, "seed": 4}],
                 "coupling.yade.packings": ["stab_%s_s4" % protocol],
-                "coupling.yade.packing_dir": "PACKINGS/%s" % protocol,
+                "coupling.yade.packing_dir": "PACKINGS/%s_n%g" % (protocol, porosity),
                 "coupling.service_name": "mpmdem_stability_%s" % name},
     }
 
@@ -324,6 +324,14 @@ def mpm_case(case, out, env, timeout):
                           % (summ["runout_m"], summ.get("final_height_m", float("nan")),
                              summ.get("initial_height_m", float("nan")),
                              summ.get("E_d_over_E_p0", float("nan"))))
+    if case.get("check") == "impact" and os.path.isdir(run_dir):
+        t, a = last_frame(run_dir)
+        if "velocity" in a:
+            vz = a["velocity"][:, 2]
+            r["notes"].append("last frame t = %.4g s: mean v_z %.4g m/s (rebound; impact at -50), "
+                              "v_z %.4g..%.4g m/s, E_k/E_ref %.3g" % (
+                                  t, vz.mean(), vz.min(), vz.max(),
+                                  summ.get("E_k_J", float("nan")) / r["E_ref"]))
     if case.get("check") == "free_fall" and os.path.isdir(run_dir):
         ok, why = free_fall_check(run_dir, r)
         r["check_failed"] = "" if ok else why

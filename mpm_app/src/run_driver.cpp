@@ -193,6 +193,7 @@ class Run {
 
   // Both sides save their state; the checkpoint counts once both are done (COMPLETE).
   void write_checkpoint() {
+    require_finite();
     const std::string dir = checkpoint_directory(dir_, solver_->step_count());
     write_mpm_checkpoint(dir, solver_->state(), driver_state());
     solver_->provider().checkpoint(dir + "/dem", solver_->step_count());
@@ -404,8 +405,9 @@ class Run {
 
   void log_energy(double dt) {
     const Energies e = solver_->energies();
+    const EnergyBudget& b = solver_->energy_budget();
     energy_->append({solver_->time(), solver_->step_count(), dt, e.E_p, e.E_k, e.E_strain,
-                     solver_->initial_potential_energy()});
+                     solver_->initial_potential_energy(), b.E_k0, b.W_int, b.W_damp, b.W_bc});
     last_energy_step_ = solver_->step_count();
   }
 

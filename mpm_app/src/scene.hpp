@@ -77,6 +77,7 @@ struct SolverParams {
   double flip = 0.99;     // FLIP fraction of the PIC/FLIP blend (1 = pure FLIP)
   double cfl = 0.5;       // Courant number
   double dt_max = 1e-3;   // cap on the automatic step [s]
+  double dt_fixed = 0.0;  // > 0: this step in place of the automatic one [s] (stability studies)
   double end_time = 1.0;  // [s]
   Vec3 gravity{0.0, 0.0, -9.81};
   double local_damping = 0.0;  // Cundall non-viscous damping coefficient on grid forces

@@ -11,6 +11,7 @@
 
 #include "mpmdem/protocol.hpp"
 #include "particle_init.hpp"
+#include "state_guard.hpp"
 #include "time_step.hpp"
 
 namespace mpmdem::mpm {
@@ -114,7 +115,23 @@ Solver::Solver(const Scene& scene, Particles particles,
         "cells (nodes with tiny mass); prefer scheme musl or shape bspline2");
   }
   E_p0_ = energies().E_p;
-  dt_next_ = stable_time_step(p_, grid_.h, scene_.solver.cfl, scene_.solver.dt_max);
+  budget_.E_k0 = energies().E_k;
+  dt_next_ = next_time_step();
+  if (scene_.solver.dt_fixed > 0.0) {
+    const double dt_cfl = stable_time_step(p_, grid_.h, 1.0, scene_.solver.dt_max);
+    std::ostringstream msg;
+    msg << "solver.dt_fixed = " << scene_.solver.dt_fixed << " s replaces the automatic step";
+    if (scene_.solver.dt_fixed > dt_cfl) {
+      msg << "; warning: it exceeds the CFL limit h / c = " << dt_cfl
+          << " s at the start (the run is expected to be unstable)";
+    }
+    events_.push_back(msg.str());
+  }
+}
+
+double Solver::next_time_step() const {
+  const SolverParams& sp = scene_.solver;
+  return sp.dt_fixed > 0.0 ? sp.dt_fixed : stable_time_step(p_, grid_.h, sp.cfl, sp.dt_max);
 }
 
 Solver::Solver(const Scene& scene, SolverState state,
@@ -143,6 +160,7 @@ Solver::Solver(const Scene& scene, SolverState state,
   dt_next_ = state.dt_next;
   step_ = state.step;
   E_p0_ = state.E_p0;
+  budget_ = state.budget;
   removed_ = state.removed;
   no_contact_updates_ = state.no_contact_updates;
   provider_->resume(slot_stress, responses_);
@@ -182,6 +200,7 @@ SolverState Solver::state() const {
   s.step = step_;
   s.no_contact_updates = no_contact_updates_;
   s.removed = removed_;
+  s.budget = budget_;
   for (std::size_t c = 0; c < bc_.constraint_count(); ++c)
     s.constraint_active.push_back(bc_.constraint_active(c) ? 1 : 0);
   return s;
@@ -228,8 +247,12 @@ void Solver::step_with(Stencils<Shape::kWidth>& stencils, double dt) {
   p2g(p_, stencils, grid_, buffers_);
   const auto t1 = Clock::now();
   // Integrate the grid momentum; enforce walls and velocity constraints.
+  EnergyBudget step_work;  // W_damp, W_bc of this step
+  grid_work_.before_update(grid_, sp.gravity, sp.local_damping);
   grid_update(grid_, sp.gravity, sp.local_damping, dt);
+  grid_work_.before_bc(grid_);
   bc_.apply(grid_.v_i);
+  grid_work_.after_bc(grid_, dt, step_work);
   const auto t2 = Clock::now();
   // Update point velocities (PIC/FLIP) and positions; MUSL re-projects the new momentum.
   const bool musl = sp.scheme == Scheme::kMUSL;
@@ -244,9 +267,13 @@ void Solver::step_with(Stencils<Shape::kWidth>& stencils, double dt) {
     std::ostringstream msg;
     msg << describe_point(bad) << " inverted or degenerated at step " << step
         << " (det dF = " << p_.dF[bad].determinant() << ", dt = " << dt
-        << " s): reduce solver.cfl or solver.dt_max, or check the material parameters";
+        << " s): the run is unstable; "
+        << (sp.dt_fixed > 0.0 ? "unset solver.dt_fixed (automatic CFL step)"
+                              : "reduce solver.cfl or solver.dt_max")
+        << ", or check the material parameters";
     throw SimulationError(msg.str());
   }
+  const double W_int_start = stress_work(p_, false);
   const auto t3 = Clock::now();
   // Stresses for the whole batch in one call.
   const auto n = static_cast<std::ptrdiff_t>(p_.size());
@@ -263,16 +290,32 @@ void Solver::step_with(Stencils<Shape::kWidth>& stencils, double dt) {
   step_ = step;
   dt_ = dt;
   apply_responses();
+  check_finite_state(step, dt);
+  budget_.W_int += 0.5 * (W_int_start + stress_work(p_, true));
+  budget_.W_damp += step_work.W_damp;
+  budget_.W_bc += step_work.W_bc;
   const auto t4 = Clock::now();
   timing_ = {seconds(t0, t1), seconds(t1, t2), seconds(t2, t3), seconds(t3, t4),
              provider_->last_timing()};
 
   // Time step of the next step; constraints whose release condition holds now.
-  dt_next_ = stable_time_step(p_, grid_.h, sp.cfl, sp.dt_max);
+  dt_next_ = next_time_step();
   if (bc_.constraint_count() > 0) {
     const double E_k = bc_.needs_kinetic_energy() ? energies().E_k : 0.0;
     bc_.update_releases(time_, E_k, E_p0_, events_);
   }
+}
+
+void Solver::check_finite_state(std::int64_t step, double dt) const {
+  NonFinite bad;
+  if (!find_first_non_finite(p_, bad)) return;
+  std::ostringstream msg;
+  msg << "non-finite " << bad.field << " at " << describe_point(bad.point) << " at step " << step
+      << " (dt = " << dt << " s): the run is unstable; nothing of this step is written. "
+      << (scene_.solver.dt_fixed > 0.0 ? "Unset solver.dt_fixed (automatic CFL step)"
+                                       : "Reduce solver.cfl or solver.dt_max")
+      << ", or check the material parameters";
+  throw SimulationError(msg.str());
 }
 
 std::string Solver::describe_point(std::size_t q) const {

@@ -19,7 +19,13 @@
 //   5 Stress   provider->update(dF of all points) in one batched call; stress, stiffness and
 //              outputs copied to the points; non-finite stress or a fatal RVE status:
 //              SimulationError naming the point and the step.
-//   6 Next dt  min(dt_max, cfl h / max_p (sqrt(M_p / rho_p) + |v_p|)); constraint releases.
+//   6 Guard    a non-finite x, v, sigma, F, V or stiffness at any point: SimulationError
+//              naming the point and the step (state_guard.hpp), before any output is written.
+//   7 Next dt  min(dt_max, cfl h / max_p (sqrt(M_p / rho_p) + |v_p|)), or solver.dt_fixed
+//              when set (stability studies: no CFL check); constraint releases.
+//
+// Energy budget (energy_budget.hpp): W_damp and W_bc from the grid around step 2, W_int from
+// the stresses before and after step 5.
 //
 // The FLIP increment uses v0_i before the boundary conditions, so a wall or a prescribed
 // velocity also changes the point velocities by exactly the impulse it applies to the grid.
@@ -46,6 +52,7 @@
 #include "constitutive/elastic_law.hpp"
 #include "constitutive/provider.hpp"
 #include "energies.hpp"
+#include "energy_budget.hpp"
 #include "errors.hpp"
 #include "grid.hpp"
 #include "particles.hpp"
@@ -65,6 +72,7 @@ struct SolverState {
   std::int64_t no_contact_updates = 0;
   std::size_t removed = 0;
   std::vector<char> constraint_active;
+  EnergyBudget budget;
 };
 
 // Wall time of the phases of the last step [s] (issue 5: per-phase timing).
@@ -104,6 +112,8 @@ class Solver {
 
   Energies energies() const;
   double initial_potential_energy() const { return E_p0_; }
+  // E_k0 and the work terms accumulated up to now (energy_budget.hpp).
+  const EnergyBudget& energy_budget() const { return budget_; }
   // Human-readable events since the last call (constraint releases, removed points).
   std::vector<std::string> take_events();
 
@@ -125,6 +135,8 @@ class Solver {
   void remove_points(const std::vector<char>& keep);
   void apply_responses();
   std::string describe_point(std::size_t q) const;
+  void check_finite_state(std::int64_t step, double dt) const;
+  double next_time_step() const;
 
   Scene scene_;
   Particles p_;
@@ -143,6 +155,8 @@ class Solver {
   double dt_next_ = 0.0;
   std::int64_t step_ = 0;
   double E_p0_ = 0.0;
+  EnergyBudget budget_;
+  GridWork grid_work_;
   std::size_t removed_ = 0;
   std::int64_t no_contact_updates_ = 0;
   std::vector<std::string> events_;

@@ -329,7 +329,7 @@ TEST(EnergyLog, HeaderAndDissipatedEnergyIdentity) {
   {
     EnergyLog log(path.string());
     log.append({0.0, 0, 0.0, 10.0, 0.0, 0.0, 10.0});
-    log.append({0.1, 7, 1e-3, 9.5, 0.25, 0.1, 10.0});
+    log.append({0.1, 7, 1e-3, 9.5, 0.25, 0.1, 10.0, 0.5, 0.4, 0.2, 0.05});
     // A non-finite value is refused and nothing is written.
     EXPECT_THROW(log.append({0.2, 8, 1e-3, std::nan(""), 0.0, 0.0, 10.0}), std::runtime_error);
     EXPECT_EQ(log.rows(), 2u);
@@ -338,10 +338,12 @@ TEST(EnergyLog, HeaderAndDissipatedEnergyIdentity) {
   ASSERT_EQ(rows.size(), 3u);
   std::string header;
   for (std::size_t k = 0; k < rows[0].size(); ++k) header += (k ? "," : "") + rows[0][k];
-  EXPECT_EQ(header, "time,step,dt,E_p,E_k,E_d,E_strain,E_p0");
+  EXPECT_EQ(header, "time,step,dt,E_p,E_k,E_d,E_strain,E_p0,E_k0,W_int,W_damp,W_bc,E_err");
   EXPECT_EQ(std::stod(rows[1][0]), 0.0);
   EXPECT_DOUBLE_EQ(std::stod(rows[2][5]), 10.0 - 9.5 - 0.25);
   EXPECT_EQ(rows[2][1], "7");
+  // E_err = E_p0 + E_k0 - E_p - E_k - W_int - W_damp - W_bc
+  EXPECT_DOUBLE_EQ(std::stod(rows[2][12]), 10.0 + 0.5 - 9.5 - 0.25 - 0.4 - 0.2 - 0.05);
 }
 
 TEST(SummaryJson, NonFiniteNumbersBecomeNull) {
@@ -408,7 +410,7 @@ TEST(RunOutputs, AShortRunWritesEveryOutputConsistently) {
   EXPECT_EQ(std::stod(rows[1][0]), 0.0);
   EXPECT_EQ(rows.size() - 1, static_cast<std::size_t>(r.summary.steps) + 1);  // every step
   for (std::size_t k = 1; k < rows.size(); ++k) {
-    ASSERT_EQ(rows[k].size(), 8u);
+    ASSERT_EQ(rows[k].size(), 13u);
     const double E_p = std::stod(rows[k][3]), E_k = std::stod(rows[k][4]);
     const double E_d = std::stod(rows[k][5]), E_p0 = std::stod(rows[k][7]);
     EXPECT_NEAR(E_d, E_p0 - E_p - E_k, 1e-9 * std::abs(E_p0) + 1e-12);

@@ -191,6 +191,7 @@ SolverParams load_solver(const Config& cfg) {
   s.flip = cfg.number("solver.flip");
   s.cfl = cfg.number("solver.cfl");
   s.dt_max = cfg.number("solver.dt_max");
+  s.dt_fixed = cfg.number("solver.dt_fixed");
   s.end_time = cfg.number("solver.end_time");
   s.gravity = vec(cfg.vec3("solver.gravity"));
   s.local_damping = cfg.number("solver.local_damping");

@@ -131,6 +131,11 @@ void add_solver_keys(config::Schema& s) {
             .le(1));
   s.add(
       key("solver.dt_max", Type::kDouble, "s", "cap on the automatic time step").def("1e-3").gt(0));
+  s.add(key("solver.dt_fixed", Type::kDouble, "s",
+            "fixed time step in place of the automatic (CFL) one, for stability studies: "
+            "not checked against the CFL limit (a warning says when it exceeds it); 0: automatic")
+            .def("0")
+            .ge(0));
   s.add(key("solver.end_time", Type::kDouble, "s", "simulated time to run").req().gt(0));
   s.add(key("solver.gravity", Type::kVec3, "m/s^2", "gravitational acceleration")
             .def("[0, 0, -9.81]"));

@@ -91,6 +91,10 @@ void write_mpm_checkpoint(const std::string& dir, const SolverState& s, const Dr
     f.attribute("dt", s.dt);
     f.attribute("dt_next", s.dt_next);
     f.attribute("E_p0", s.E_p0);
+    f.attribute("E_k0", s.budget.E_k0);
+    f.attribute("W_int", s.budget.W_int);
+    f.attribute("W_damp", s.budget.W_damp);
+    f.attribute("W_bc", s.budget.W_bc);
     f.attribute("step", s.step);
     f.attribute("no_contact_updates", s.no_contact_updates);
     f.attribute("removed", static_cast<std::int64_t>(s.removed));
@@ -173,6 +177,10 @@ void read_mpm_checkpoint(const std::string& dir, SolverState& s, DriverState& d)
   s.dt = f.attribute_double("dt");
   s.dt_next = f.attribute_double("dt_next");
   s.E_p0 = f.attribute_double("E_p0");
+  s.budget.E_k0 = f.attribute_double("E_k0");
+  s.budget.W_int = f.attribute_double("W_int");
+  s.budget.W_damp = f.attribute_double("W_damp");
+  s.budget.W_bc = f.attribute_double("W_bc");
   s.step = f.attribute_int64("step");
   s.no_contact_updates = f.attribute_int64("no_contact_updates");
   s.removed = static_cast<std::size_t>(f.attribute_int64("removed"));

@@ -2,7 +2,10 @@
 // Columns: time [s], step, dt [s] (the step that led to this row; 0 on the first row),
 // E_p = -sum m g.x (sum m g z for gravity along -z), E_k = sum 1/2 m v^2, E_d = E_p0 - E_p - E_k
 // (energy dissipated, plus elastic energy stored), E_strain (elastic strain energy where the model
-// defines it, else 0), E_p0 (potential energy at t=0) — all in J.
+// defines it, else 0), E_p0 (potential energy at t=0), then the energy budget
+// (energy_budget.hpp): E_k0 (kinetic energy at t=0), W_int (stress work), W_damp (local
+// damping), W_bc (walls and velocity constraints) and
+// E_err = E_p0 + E_k0 - E_p - E_k - W_int - W_damp - W_bc — all in J.
 // Rows are appended and flushed as the run goes, so a long run can be watched.
 #pragma once
 
@@ -20,11 +23,16 @@ struct EnergyRow {
   double E_k = 0.0;
   double E_strain = 0.0;
   double E_p0 = 0.0;
+  double E_k0 = 0.0;
+  double W_int = 0.0;
+  double W_damp = 0.0;
+  double W_bc = 0.0;
 };
 
 class EnergyLog {
  public:
-  static constexpr const char* kHeader = "time,step,dt,E_p,E_k,E_d,E_strain,E_p0";
+  static constexpr const char* kHeader =
+      "time,step,dt,E_p,E_k,E_d,E_strain,E_p0,E_k0,W_int,W_damp,W_bc,E_err";
 
   explicit EnergyLog(const std::string& path);
   // Continues the log of a resumed run: keeps the header and the rows up to `last_step`

@@ -1,0 +1,54 @@
+#include "energy_budget.hpp"
+
+#include <Eigen/LU>
+#include <cmath>
+
+namespace mpmdem::mpm {
+
+void GridWork::before_update(const Grid& grid, const Vec3& gravity, double damping) {
+  if (!(damping > 0.0)) {
+    f_damp_.clear();
+    return;
+  }
+  f_damp_.assign(grid.size(), Vec3::Zero());
+  const double floor = grid.mass_floor;
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    const double m = grid.m_i[i];
+    if (!(m > floor)) continue;
+    // As grid_update(): the damping force opposes v0 = mv / m, its size alpha |f| per component.
+    const Vec3 v0 = grid.mv_i[i] / m;
+    const Vec3 f = grid.f_i[i] + m * gravity;
+    for (int d = 0; d < 3; ++d) {
+      const double sign = (v0[d] > 0.0) - (v0[d] < 0.0);
+      f_damp_[i][d] = -damping * std::abs(f[d]) * sign;
+    }
+  }
+}
+
+void GridWork::after_bc(const Grid& grid, double dt, EnergyBudget& budget) const {
+  const double floor = grid.mass_floor;
+  const bool damped = f_damp_.size() == grid.size();
+  double w_damp = 0.0, w_bc = 0.0;
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    const double m = grid.m_i[i];
+    if (!(m > floor)) continue;
+    const Vec3 v_mean = 0.5 * (grid.v0_i[i] + grid.v_i[i]);
+    if (damped) w_damp -= dt * f_damp_[i].dot(v_mean);
+    w_bc += m * (v_free_[i] - grid.v_i[i]).dot(v_mean);
+  }
+  budget.W_damp += w_damp;
+  budget.W_bc += w_bc;
+}
+
+double stress_work(const Particles& p, bool volume_after_update) {
+  double w = 0.0;
+  for (std::size_t q = 0; q < p.size(); ++q) {
+    const Mat3& dF = p.dF[q];
+    const Mat3 de = 0.5 * (dF + dF.transpose()) - Mat3::Identity();
+    const double V = volume_after_update ? p.V[q] : p.V[q] / dF.determinant();
+    w += V * (p.sigma[q].cwiseProduct(de)).sum();
+  }
+  return w;
+}
+
+}  // namespace mpmdem::mpm

@@ -1,0 +1,56 @@
+// Energy budget of a run (docs/stability.md): the work terms that, with E_p and E_k, close the
+// energy balance of the explicit MPM step, accumulated step by step by the solver.
+//
+//   E_err = E_p0 + E_k0 - E_p - E_k - W_int - W_damp - W_bc
+//
+//   W_int  internal (stress) work stored or dissipated in the material:
+//          sum over steps of sum_p 1/2 (V_p^n sigma_p^n + V_p^{n+1} sigma_p^{n+1}) : sym(dF_p - I)
+//          (trapezoidal in the stress; sym(dF - I) = dt d, d the rate of deformation). For an
+//          elastic material it equals the strain energy, for plastic ones it also holds the
+//          plastic dissipation, for RVEs it is the work the MPM did on them.
+//   W_damp work removed by local (Cundall) damping on the grid: per step
+//          -sum_i dt f_damp,i . (v0_i + v_i) / 2, v_i the final node velocity.
+//   W_bc   work removed by the walls and velocity constraints: per step
+//          sum_i m_i (v_free,i - v_i) . (v0_i + v_i) / 2 (the impulse they apply times the
+//          mean node velocity; negative when a prescribed velocity feeds energy in). With
+//          W_damp, the force terms and the grid kinetic energy change balance exactly node
+//          by node: 1/2 m (|v_i|^2 - |v0_i|^2) = (impulse of all forces) . (v0_i + v_i) / 2.
+//   E_err  what is left: the dissipation of the PIC part of the PIC/FLIP blend, the
+//          transfer and time-integration errors, and any energy injected by an instability.
+// Serial sums in node/point order, so the figures do not depend on the thread count.
+#pragma once
+
+#include <vector>
+
+#include "grid.hpp"
+#include "particles.hpp"
+
+namespace mpmdem::mpm {
+
+struct EnergyBudget {
+  double E_k0 = 0.0;    // kinetic energy at t = 0 [J]
+  double W_int = 0.0;   // [J]
+  double W_damp = 0.0;  // [J]
+  double W_bc = 0.0;    // [J]
+};
+
+// The grid part of the budget, measured around grid_update() and the boundary conditions:
+// before_update() with the grid as P2G left it and grid_update()'s arguments; before_bc()
+// after grid_update(); after_bc() after the walls and constraints: adds W_damp and W_bc of
+// the step to `budget`.
+class GridWork {
+ public:
+  void before_update(const Grid& grid, const Vec3& gravity, double damping);
+  void before_bc(const Grid& grid) { v_free_ = grid.v_i; }
+  void after_bc(const Grid& grid, double dt, EnergyBudget& budget) const;
+
+ private:
+  std::vector<Vec3> f_damp_;  // damping force per node (empty: no damping)
+  std::vector<Vec3> v_free_;  // node velocity before the boundary conditions
+};
+
+// sum_p V_p sigma_p : sym(dF_p - I) with V_p the current volume (volume_after_update: the
+// volume after dF_p was applied) or V_p / det(dF_p) (the volume before the step).
+double stress_work(const Particles& p, bool volume_after_update);
+
+}  // namespace mpmdem::mpm

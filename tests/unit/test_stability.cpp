@@ -1,0 +1,272 @@
+// Stability guards (issue 6, item 3): the per-step non-finite state guard (state_guard.hpp),
+// the energy budget (energy_budget.hpp) that closes the energy balance, and solver.dt_fixed
+// above the CFL limit detected as an instability naming the point and the step. In every
+// failed run, no file of the run directory holds a NaN or an Inf.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "config/scene_loader.hpp"
+#include "constitutive/linear_elastic.hpp"
+#include "mpmdem/protocol.hpp"
+#include "particle_init.hpp"
+#include "run_driver.hpp"
+#include "state_guard.hpp"
+
+namespace fs = std::filesystem;
+using namespace mpmdem::mpm;
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+class TempDir {
+ public:
+  explicit TempDir(const std::string& tag) {
+    path_ = fs::temp_directory_path() /
+            ("mpmdem_stab_" + tag + "_" + std::to_string(::getpid()) + "_" + std::to_string(n_++));
+    fs::remove_all(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  std::string str() const { return path_.string(); }
+
+ private:
+  fs::path path_;
+  static inline int n_ = 0;
+};
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+Scene column(double end_time, double damping) {
+  Scene s = load_scene(std::string(MPMDEM_SOURCE_DIR) + "/configs/elastic_column.yaml");
+  s.solver.end_time = end_time;
+  s.solver.local_damping = damping;
+  s.output.energy_interval = 0.0;  // every step
+  s.verification.kind = VerificationKind::kNone;
+  return s;
+}
+
+RunOptions quiet(const std::string& dir, std::ostream& log) {
+  RunOptions o;
+  o.out_dir = dir;
+  o.threads = 1;
+  o.handle_signals = false;
+  o.out = &log;
+  o.err = &log;
+  return o;
+}
+
+// Non-finite values in a .vtu with raw appended Float64 arrays (vtk_writer.cpp's layout).
+std::size_t vtu_non_finite(const fs::path& file) {
+  const std::string text = read_file(file);
+  const std::size_t appended = text.find("<AppendedData encoding=\"raw\">");
+  EXPECT_NE(appended, std::string::npos) << file;
+  if (appended == std::string::npos) return 1;
+  const std::string head = text.substr(0, appended);
+  const std::size_t data = text.find('_', appended) + 1;
+  const std::regex decl("<DataArray type=\"Float64\"[^>]* offset=\"(\\d+)\"/>");
+  std::size_t bad = 0, arrays = 0;
+  for (auto it = std::sregex_iterator(head.begin(), head.end(), decl); it != std::sregex_iterator();
+       ++it, ++arrays) {
+    const std::size_t offset = std::stoul((*it)[1]);
+    std::uint64_t nbytes = 0;
+    std::memcpy(&nbytes, text.data() + data + offset, sizeof nbytes);
+    for (std::size_t k = 0; k < nbytes / sizeof(double); ++k) {
+      double v;
+      std::memcpy(&v, text.data() + data + offset + sizeof nbytes + k * sizeof v, sizeof v);
+      if (!std::isfinite(v)) ++bad;
+    }
+  }
+  EXPECT_GT(arrays, 3u) << file;
+  return bad;
+}
+
+// Every file of a run directory: text files hold no nan/inf token, VTK frames no
+// non-finite Float64. Returns the number of files checked.
+std::size_t expect_no_non_finite(const std::string& dir) {
+  const std::regex token("(^|[,:\\s\\[])[-+]?(nan|inf)", std::regex::icase);
+  std::size_t files = 0;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    if (!e.is_regular_file()) continue;
+    const std::string ext = e.path().extension().string();
+    if (ext == ".vtu") {
+      EXPECT_EQ(vtu_non_finite(e.path()), 0u) << e.path();
+    } else if (ext == ".csv" || ext == ".json" || ext == ".pvd" || ext == ".txt") {
+      const std::string text = read_file(e.path());
+      EXPECT_FALSE(std::regex_search(text, token)) << e.path() << ":\n" << text.substr(0, 400);
+    } else {
+      continue;
+    }
+    ++files;
+  }
+  return files;
+}
+
+// Linear elastic, with a hook on the responses of every update (fault injection).
+class HookedProvider : public ConstitutiveProvider {
+ public:
+  using Hook = std::function<void(std::int64_t, std::vector<PointResponse>&)>;
+  HookedProvider(std::unique_ptr<ConstitutiveProvider> inner, Hook hook)
+      : inner_(std::move(inner)), hook_(std::move(hook)) {}
+  std::string name() const override { return "hooked_" + inner_->name(); }
+  void initialise(const std::vector<Mat3>& s0, std::vector<PointResponse>& out) override {
+    inner_->initialise(s0, out);
+  }
+  void update(const std::vector<Mat3>& dF, double dt, std::int64_t step, double time,
+              std::vector<PointResponse>& out) override {
+    inner_->update(dF, dt, step, time, out);
+    hook_(++calls_, out);
+  }
+
+ private:
+  std::unique_ptr<ConstitutiveProvider> inner_;
+  Hook hook_;
+  std::int64_t calls_ = 0;
+};
+
+double column_value(const std::string& csv_line, std::size_t col) {
+  std::stringstream ss(csv_line);
+  std::string cell;
+  for (std::size_t c = 0; std::getline(ss, cell, ','); ++c)
+    if (c == col) return std::stod(cell);
+  return kNaN;
+}
+
+}  // namespace
+
+TEST(StateGuard, NamesTheFirstPointAndTheField) {
+  Particles p = generate_particles(column(0.1, 0.0));
+  p.porosity.assign(p.size(), 0.4);
+  NonFinite where;
+  EXPECT_FALSE(find_first_non_finite(p, where));
+  const std::vector<std::pair<std::function<void(std::size_t)>, std::string>> faults = {
+      {[&](std::size_t q) { p.x[q].y() = kNaN; }, "position"},
+      {[&](std::size_t q) { p.v[q].z() = std::numeric_limits<double>::infinity(); }, "velocity"},
+      {[&](std::size_t q) { p.sigma[q](0, 2) = kNaN; }, "stress"},
+      {[&](std::size_t q) { p.F[q](1, 1) = kNaN; }, "deformation gradient"},
+      {[&](std::size_t q) { p.V[q] = kNaN; }, "volume"},
+      {[&](std::size_t q) { p.porosity[q] = kNaN; }, "porosity"}};
+  for (const auto& [inject, field] : faults) {
+    Particles clean = p;
+    std::swap(p, clean);
+    inject(17);
+    inject(250);  // a later point too: the first one is reported
+    ASSERT_TRUE(find_first_non_finite(p, where)) << field;
+    EXPECT_EQ(where.point, 17u);
+    EXPECT_EQ(std::string(where.field), field);
+    std::swap(p, clean);
+  }
+}
+
+// A NaN the provider returns in an RVE output (porosity: no other check looks at it) stops
+// the run at that step, naming the point; nothing non-finite is written anywhere.
+TEST(StateGuard, InjectedNaNStopsTheRunBeforeAnyOutputHoldsIt) {
+  Scene scene = column(0.05, 0.0);
+  scene.constitutive.model = ModelKind::kRemote;  // the points carry RVE outputs
+  scene.coupling.outputs = mpmdem::protocol::kOutputPorosity;
+  scene.output.interval = 1e-4;  // a frame about every step up to the fault
+  scene.output.checkpoint_interval_steps = 2;
+  TempDir dir("nan");
+  std::ostringstream log;
+  RunOptions o = quiet(dir.str(), log);
+  o.provider_factory = [](const Scene& s, std::size_t) -> std::unique_ptr<ConstitutiveProvider> {
+    return std::make_unique<HookedProvider>(make_linear_elastic(s.constitutive),
+                                            [](std::int64_t call, auto& out) {
+                                              for (auto& r : out) r.porosity = 0.4;
+                                              if (call == 7) out[42].porosity = kNaN;
+                                            });
+  };
+  const RunResult r = run_scene(scene, o);
+  EXPECT_EQ(r.exit_code, 4) << log.str();
+  EXPECT_EQ(r.summary.status, "failed");
+  EXPECT_EQ(r.summary.steps, 7);
+  const std::string& e = r.summary.error;
+  EXPECT_NE(e.find("non-finite porosity at material point 42"), std::string::npos) << e;
+  EXPECT_NE(e.find("at step 7"), std::string::npos) << e;
+  EXPECT_NE(read_file(dir.str() + "/summary.json").find("material point 42"), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir.str() + "/final_state.h5"));
+  EXPECT_TRUE(fs::exists(dir.str() + "/frame_00006.vtu")) << log.str();
+  EXPECT_GE(expect_no_non_finite(dir.str()), 8u);  // energies, timings, summary, pvd, frames
+  // The last energy row is the last finite state (step 6).
+  const std::string energies = read_file(dir.str() + "/energies.csv");
+  const std::string last = energies.substr(energies.rfind('\n', energies.size() - 2) + 1);
+  EXPECT_EQ(column_value(last, 1), 6.0) << last;
+}
+
+// A forced time step 3x the CFL limit: the run blows up and is stopped with the point and the
+// step, status failed, exit code 4, and no NaN in the files.
+TEST(StateGuard, ForcedTimeStepAboveTheCflLimitIsDetected) {
+  Scene scene = column(0.5, 0.0);
+  const double c = 82.04, h = scene.grid.cell_size;  // P-wave speed of the column (its comment)
+  scene.solver.dt_fixed = 3.0 * h / c;
+  TempDir dir("dt");
+  std::ostringstream log;
+  const RunResult r = run_scene(scene, quiet(dir.str(), log));
+  EXPECT_EQ(r.exit_code, 4) << log.str();
+  EXPECT_EQ(r.summary.status, "failed");
+  EXPECT_NE(log.str().find("exceeds the CFL limit"), std::string::npos) << log.str();
+  const std::regex named("material point \\d+ .* at step \\d+");
+  EXPECT_TRUE(std::regex_search(r.summary.error, named)) << r.summary.error;
+  EXPECT_NE(r.summary.error.find("solver.dt_fixed"), std::string::npos) << r.summary.error;
+  EXPECT_LT(r.summary.steps, 400);  // it diverges fast
+  EXPECT_GE(expect_no_non_finite(dir.str()), 3u);
+}
+
+// The energy budget closes: W_int equals the elastic strain energy, and
+// E_err = E_p0 + E_k0 - E_p - E_k - W_int - W_damp - W_bc stays small against the energy
+// released, undamped (W_damp = 0) and damped (W_damp carries what the damping removed).
+TEST(EnergyBudget, ClosesTheBalanceOfTheElasticColumn) {
+  for (double damping : {0.0, 0.8}) {
+    const Scene scene = column(0.1, damping);
+    TempDir dir("budget");
+    std::ostringstream log;
+    const RunResult r = run_scene(scene, quiet(dir.str(), log));
+    ASSERT_EQ(r.exit_code, 0) << log.str();
+    std::ifstream in(dir.str() + "/energies.csv");
+    std::string line;
+    std::getline(in, line);
+    ASSERT_EQ(line, "time,step,dt,E_p,E_k,E_d,E_strain,E_p0,E_k0,W_int,W_damp,W_bc,E_err");
+    double released = 0.0, err = 0.0, int_vs_strain = 0.0, W_damp = 0.0;
+    std::size_t rows = 0;
+    while (std::getline(in, line)) {
+      const auto v = [&](std::size_t c) { return column_value(line, c); };
+      released = std::max(released, v(7) - v(3));
+      err = std::max(err, std::abs(v(12)));
+      EXPECT_NEAR(v(12), v(7) + v(8) - v(3) - v(4) - v(9) - v(10) - v(11), 1e-9 * v(7));
+      int_vs_strain = std::max(int_vs_strain, std::abs(v(9) - v(6)));
+      W_damp = v(10);
+      ++rows;
+    }
+    EXPECT_GT(rows, 500u);
+    ASSERT_GT(released, 1e-3);  // J; rho g H^2 A settlement scale
+    std::cout << "damping " << damping << ": max |E_err| / released = " << err / released
+              << ", max |W_int - E_strain| / released = " << int_vs_strain / released
+              << ", W_damp = " << W_damp << " J\n";
+    EXPECT_LT(err / released, 0.01);
+    EXPECT_LT(int_vs_strain / released, 0.01);
+    if (damping > 0.0) {
+      EXPECT_GT(W_damp, 0.2 * released);
+    } else {
+      EXPECT_EQ(W_damp, 0.0);
+    }
+  }
+}

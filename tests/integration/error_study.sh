@@ -42,7 +42,7 @@ for a, b in zip(s, s[1:]):
 for a, b in zip(u, u[1:]):
     assert a / b > 1.8, f"settlement error not at least first order: {u}"
 assert int(e[2]["steps"]) > int(e[1]["steps"]) > int(e[0]["steps"])
-for f in ("study.md", "error_vs_runtime.png", "scenes/base.yaml"):
+for f in ("study.md", "error_vs_runtime.png", "error_vs_cputime.png", "scenes/base.yaml"):
     assert os.path.getsize(f"{w}/el/{f}") > 0, f
 ref = {r["run"]: r for r in csv.DictReader(open(f"{w}/ref/study.csv"))}
 assert set(ref) == {"reference", "base", "cell_size=0.1"}, ref.keys()

@@ -211,9 +211,10 @@ int run(const Options& o) {
 
   const std::size_t K = o.rves;
   std::vector<mpmdem::protocol::RveInit> init(K);
-  for (auto& in : init) {
-    std::memset(&in, 0, sizeof in);
-    in.stress[0] = in.stress[4] = in.stress[8] = -o.pressure;
+  for (std::size_t k = 0; k < K; ++k) {
+    std::memset(&init[k], 0, sizeof init[k]);
+    init[k].stress[0] = init[k].stress[4] = init[k].stress[8] = -o.pressure;
+    init[k].point = k;
   }
   std::vector<mpmdem::protocol::RveReply> replies = client.initialise(init);
 

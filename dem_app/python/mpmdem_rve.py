@@ -63,16 +63,16 @@ class RveSet:
             return names[0]
         return random.Random(self.p["seed"] * 1000003 + gid).choice(names)
 
-    def _new_scene(self, gid, pressure):
+    def _new_scene(self, point, pressure):
         y = self.y
         O = y.O
         idx = O.addScene()
         O.switchToScene(idx)
-        name = self._packing_for(gid)
+        name = self._packing_for(point)
         if name is None:  # no library: build a small packing in place (tests)
             q = dict(pk.TABLE1)
             q.update(self.p["inline_packing"])
-            q["seed"] = int(self.p["seed"]) + gid
+            q["seed"] = int(self.p["seed"]) + point
             q["pressure"] = max(pressure, 1.0)
             pk.build_into_current_scene(q)
         else:
@@ -166,23 +166,32 @@ class RveSet:
             best = max(best, b)
         return best
 
-    def _fault(self, gid, status, what):
+    def _name(self, k, gid):
+        """How messages name RVE k (slot gid): with its material point when that differs."""
+        point = self.state[k].get("point", gid) if k < len(self.state) else gid
+        return "RVE %d" % gid if point == gid else "RVE %d (material point %d)" % (gid, point)
+
+    def _fault(self, k, gid, status, what):
         names = {NON_FINITE: "non-finite values", EXPLODING: "exploding kinetic energy"}
-        return "RVE %d step %d: %s%s" % (gid, self.step_no, names.get(status, "fault"), what)
+        return "%s step %d: %s%s" % (self._name(k, gid), self.step_no,
+                                     names.get(status, "fault"), what)
 
     # -- protocol calls ---------------------------------------------------------------------
-    def initialise(self, stress_bytes):
-        """Build/load each RVE and consolidate it to the diagonal of its initial stress."""
+    def initialise(self, stress_bytes, point_bytes=None):
+        """Build/load each RVE and consolidate it to the diagonal of its initial stress.
+        point_bytes: RveInit::point of each RVE (protocol 4.0), the name its packing is drawn
+        from; without it the RVE's slot (global id) is its name."""
         y = self.y
         O = y.O
         n = len(self.ids)
         st = struct.unpack("%dd" % (9 * n), stress_bytes)
+        points = struct.unpack("%dQ" % n, point_bytes) if point_bytes else self.ids
         out = []
         faults = []
         for k, gid in enumerate(self.ids):
             sig = st[9 * k : 9 * k + 9]
             goal = [sig[0], sig[4], sig[8]]
-            idx, name = self._new_scene(gid, -sum(goal) / 3.0)
+            idx, name = self._new_scene(points[k], -sum(goal) / 3.0)
             self._setup_engines(True)
             if max(abs(g) for g in goal) > 0:
                 q = dict(pk.TABLE1)
@@ -195,12 +204,12 @@ class RveSet:
             self.scenes.append(idx)
             t = O.cell.trsf
             self.state.append({"trsf0": [t[i, j] for i in range(3) for j in range(3)],
-                               "pending": [0.0] * 9, "packing": name,
+                               "pending": [0.0] * 9, "packing": name, "point": points[k],
                                "p0": max(abs(sum(goal) / 3.0), 1.0)})
             r, status = self._reply(k, out, OK, len(O.bodies))  # protocol 1.1: particles
             out.extend(r)
             if status in (NON_FINITE, EXPLODING):
-                faults.append(self._fault(gid, status, ""))
+                faults.append(self._fault(k, gid, status, ""))
         return struct.pack("%dd" % len(out), *out), faults
 
     def n_substeps(self, dF):
@@ -271,7 +280,7 @@ class RveSet:
             cache[gid] = r
             out.extend(r)
             if status in (NON_FINITE, EXPLODING):
-                faults.append(self._fault(gid, status, " (kinetic energy %g J)" % ke))
+                faults.append(self._fault(k, gid, status, " (kinetic energy %g J)" % ke))
         return struct.pack("%dd" % len(out), *out), faults
 
     TILE_HEIGHT = 2.2  # in largest sphere diameters: below this the cell is tiled
@@ -322,9 +331,9 @@ class RveSet:
         import sys
 
         sys.stderr.write(
-            "dem_app: RVE %d at step %d: cell %.3g m high along lattice vector %d (< %.1f "
+            "dem_app: %s at step %d: cell %.3g m high along lattice vector %d (< %.1f "
             "largest diameters): packing tiled, %d spheres now\n"
-            % (gid, self.step_no, heights[i], i, self.TILE_HEIGHT, len(O.bodies)))
+            % (self._name(k, gid), self.step_no, heights[i], i, self.TILE_HEIGHT, len(O.bodies)))
         sys.stderr.flush()
 
     def n_spheres(self, k):

@@ -54,6 +54,13 @@ void add_coupling_keys(config::Schema& s) {
             .def("0")
             .ge(0)
             .lt(1));
+  s.add(key("coupling.rve_order", Type::kEnum, "",
+            "order of the RVEs on the wire, and so which material points each DEM rank owns "
+            "(docs/protocol.md, Partitions): interleaved spreads every rank's RVEs over the "
+            "whole body, contiguous gives each rank one region (RVE costs follow the local "
+            "strain rate, so regions differ). Results do not depend on it")
+            .def("interleaved")
+            .one_of({"interleaved", "contiguous"}));
   s.add(key("coupling.load_balance", Type::kMap, "",
             "cost-aware load balance of the RVEs over the server ranks (docs/protocol.md)"));
   s.add(key("coupling.load_balance.threshold", Type::kDouble, "-",

@@ -64,6 +64,23 @@ std::vector<Partition> partition_by_cost(const std::vector<double>& cost, int pa
   return best;
 }
 
+std::vector<std::uint64_t> rve_order(std::uint64_t n, RveOrder kind) {
+  std::vector<std::uint64_t> order;
+  order.reserve(n);
+  if (kind == RveOrder::kContiguous) {
+    for (std::uint64_t i = 0; i < n; ++i) order.push_back(i);
+    return order;
+  }
+  int bits = 0;
+  while ((std::uint64_t{1} << bits) < n) ++bits;
+  for (std::uint64_t k = 0; order.size() < n; ++k) {
+    std::uint64_t r = 0;  // k with its `bits` lowest bits reversed
+    for (int b = 0; b < bits; ++b) r |= ((k >> b) & 1u) << (bits - 1 - b);
+    if (r < n) order.push_back(r);
+  }
+  return order;
+}
+
 double partition_imbalance(const std::vector<double>& cost, const std::vector<Partition>& parts) {
   if (parts.empty()) return 1.0;
   double total = 0.0, worst = 0.0;

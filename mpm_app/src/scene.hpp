@@ -108,6 +108,7 @@ struct CouplingParams {
   double peer_timeout_s = 3600.0;          // longest wait for one exchange (unprobeable ranks)
   std::string port_file = "dem_port.txt";  // relative to the run directory
   double lazy_tolerance = 0.0;             // coupling.lazy_tolerance: 0 = off
+  bool rve_order_interleaved = true;       // coupling.rve_order (partition.hpp: rve_order)
   double load_balance_threshold = 0.0;     // coupling.load_balance.*: 0 = off
   std::int64_t load_balance_min_interval = 50;
   double load_balance_smoothing = 0.2;

@@ -4,14 +4,19 @@
 #   load_balance.sh elastic  elastic stub: forced rebalancing (threshold 1 %, every >= 5
 #                            steps); the migrated run must end BITWISE equal to the other,
 #                            with >= 3 migrations; then a run with --dem-hosts/--mpm-hosts
-#                            hostfiles (localhost) must use them and end equal too.
+#                            hostfiles (localhost) must use them and end equal too, and
+#                            so must a run with coupling.rve_order contiguous (the default
+#                            is interleaved: a different RVE on each wire slot).
 #   load_balance.sh yade     the tiny multiscale column (8 YADE RVEs): migrations happen,
 #                            mass is conserved, and runout, final height and E_d/E_p0 agree
 #                            with the run without migrations within the spread that a mere
 #                            checkpoint reload causes (the collapse is chaotic: reloading a
 #                            YADE scene reorders its contact sums at ~1e-11, which grows to
 #                            ~1 % in height and ~4 % in E_d/E_p0, measured); a run resumed
-#                            from a checkpoint written after migrations completes.
+#                            from a checkpoint written after migrations completes; a run
+#                            with coupling.rve_order contiguous instead of interleaved, both
+#                            without migrations, ends BITWISE equal (each RVE keeps the
+#                            packing of its material point, whichever rank and slot it has).
 # Env: MPMDEM_BIN (build dir), MPMDEM_SRC (source dir).
 set -uo pipefail
 case=${1:?usage: load_balance.sh elastic|yade}
@@ -36,6 +41,9 @@ if [[ $case == elastic ]]; then
     "$work/plain.yaml" >"$work/lb.yaml"
   run plain "$work/plain.yaml"
   run lb "$work/lb.yaml"
+  sed -e "s/^  port_file: dem_port.txt/  port_file: dem_port.txt\n  rve_order: contiguous/" \
+    "$work/plain.yaml" >"$work/contiguous.yaml"
+  run contiguous "$work/contiguous.yaml"
   printf 'localhost slots=2\n' >"$work/dem.hosts"
   run hosts "$work/plain.yaml" --dem-hosts "$work/dem.hosts" --mpm-hosts localhost
   grep -q -- "--hostfile $work/dem.hosts" "$work/hosts/logs/dem_app.log" ||
@@ -57,12 +65,12 @@ assert lb["rebalances"] >= 3, f"only {lb['rebalances']} rebalances"
 assert plain["rebalances"] == 0
 log = open(f"{w}/lb/logs/dem_app.log").read()
 assert "load-balance migration(s)" in log, "dem_app did not report migrations"
-for other in ("lb", "hosts"):
+for other in ("lb", "hosts", "contiguous"):
     a, b = h5py.File(f"{w}/{other}/final_state.h5"), h5py.File(f"{w}/plain/final_state.h5")
     for k in ("x", "v", "stress", "F", "mass"):
         assert np.array_equal(np.asarray(a[k]), np.asarray(b[k])), f"{other}: {k} differs"
 print(f"load_balance elastic: {lb['rebalances']} migrations, final state bitwise equal; "
-      "hostfiles used")
+      "hostfiles used; contiguous RVE order bitwise equal too")
 PY
   exit $?
 fi
@@ -74,6 +82,8 @@ sed -e "s|PACKING_DIR|$bin/test-packings/column_collapse|" \
 sed -e "s/^  backend: yade/  backend: yade\n${lb_block//MININT/10}/" "$work/plain.yaml" >"$work/lb.yaml"
 run plain "$work/plain.yaml"
 run lb "$work/lb.yaml"
+sed -e "s/^  backend: yade/  backend: yade\n  rve_order: contiguous/" "$work/plain.yaml" >"$work/contiguous.yaml"
+run contiguous "$work/contiguous.yaml"
 # Resume the migrated run from its checkpoint at step 80 (written after migrations).
 cp -r "$work/lb" "$work/resumed"
 for d in "$work/resumed"/checkpoints/step_*; do
@@ -86,7 +96,11 @@ if ! "$src/scripts/run" --resume "$work/resumed" --dem-ranks 2 >"$work/resumed.l
 fi
 /usr/bin/python3 - "$work" <<'PY'
 import json, re, sys
+import h5py, numpy as np
 w = sys.argv[1]
+a, b = h5py.File(f"{w}/contiguous/final_state.h5"), h5py.File(f"{w}/plain/final_state.h5")
+for k in ("x", "v", "stress", "F", "mass"):
+    assert np.array_equal(np.asarray(a[k]), np.asarray(b[k])), f"contiguous RVE order: {k} differs"
 lb, plain, res = (json.load(open(f"{w}/{n}/summary.json")) for n in ("lb", "plain", "resumed"))
 for s in (lb, plain, res):
     assert s["status"] == "complete", s["status"]
@@ -100,5 +114,6 @@ for key, tol in (("runout_m", 0.03), ("final_height_m", 0.03), ("Ed_over_Ep0_fin
         assert rel <= tol, f"{name}: {key} {s[key]} vs {plain[key]} ({rel:.3g} > {tol})"
 print(f"load_balance yade: {lb['rebalances']} migrations; runout {lb['runout_m']:.4f} vs "
       f"{plain['runout_m']:.4f} m, H_f {lb['final_height_m']:.4f} vs {plain['final_height_m']:.4f} m, "
-      f"Ed/Ep0 {lb['Ed_over_Ep0_final']:.4f} vs {plain['Ed_over_Ep0_final']:.4f}; resumed ok")
+      f"Ed/Ep0 {lb['Ed_over_Ep0_final']:.4f} vs {plain['Ed_over_Ep0_final']:.4f}; resumed ok; "
+      "contiguous RVE order bitwise equal")
 PY

@@ -139,7 +139,10 @@ int main(int argc, char** argv) {
           sigma[p] = law.update(sigma[p], dF_of(p, s));
     } else {
       std::vector<mpmdem::protocol::RveInit> init(n);
-      for (std::size_t p = 0; p < n; ++p) Eigen::Map<RowMajor3>(init[p].stress) = sigma[p];
+      for (std::size_t p = 0; p < n; ++p) {
+        Eigen::Map<RowMajor3>(init[p].stress) = sigma[p];
+        init[p].point = p;
+      }
       compare(client.initialise(init), "initialise");
     }
 

@@ -220,12 +220,14 @@ TEST(Layout, DocumentedOffsets) {
   EXPECT_EQ(offsetof(protocol::Hello, n_rve), 16u);
   EXPECT_EQ(offsetof(protocol::Hello, config_hash), 32u);
   EXPECT_EQ(offsetof(protocol::Hello, program), 40u);
+  EXPECT_EQ(offsetof(protocol::RveInit, point), 72u);
   EXPECT_EQ(offsetof(protocol::RveRequest, dt), 72u);
   EXPECT_EQ(offsetof(protocol::RveRequest, flags), 80u);
   EXPECT_EQ(offsetof(protocol::RveReply, rotation), 72u);
   EXPECT_EQ(offsetof(protocol::RveReply, stiffness), 120u);
   EXPECT_EQ(offsetof(protocol::RveReply, cost_s), 128u);
   EXPECT_EQ(offsetof(protocol::RveReply, status), 136u);
+  EXPECT_EQ(offsetof(protocol::RveReply, n_substeps), 140u);
   EXPECT_EQ(offsetof(protocol::RankReport, compute_s), 16u);
   EXPECT_EQ(offsetof(protocol::RankReport, message), 24u);
   EXPECT_EQ(sizeof(protocol::RankReport::message), 232u);

@@ -49,7 +49,10 @@ class YadeBackend : public ::testing::Test {
     backend_ = dem::make_yade_backend(*cfg_, ctx);
     backend_->setup(ctx);
     protocol::RveInit init[2] = {};
-    for (auto& in : init) in.stress[0] = in.stress[4] = in.stress[8] = -kP0;
+    for (int k = 0; k < 2; ++k) {
+      init[k].stress[0] = init[k].stress[4] = init[k].stress[8] = -kP0;
+      init[k].point = ctx.first_rve + static_cast<std::uint64_t>(k);  // the packing's seed
+    }
     backend_->initialise(init, init_reply_);
   }
   static void TearDownTestSuite() { backend_.reset(); }

@@ -123,11 +123,16 @@ class YadeBackend final : public RveBackend {
 
   void initialise(const protocol::RveInit* init, protocol::RveReply* reply) override {
     std::vector<double> s(9 * ctx_.n_rve);
-    for (std::size_t k = 0; k < ctx_.n_rve; ++k)
+    std::vector<std::uint64_t> point(ctx_.n_rve);
+    for (std::size_t k = 0; k < ctx_.n_rve; ++k) {
       std::memcpy(&s[9 * k], init[k].stress, 9 * sizeof(double));
+      point[k] = init[k].point;
+    }
     PyObject* r =
-        PyObject_CallMethod(set_, "initialise", "y#", reinterpret_cast<const char*>(s.data()),
-                            static_cast<Py_ssize_t>(s.size() * sizeof(double)));
+        PyObject_CallMethod(set_, "initialise", "y#y#", reinterpret_cast<const char*>(s.data()),
+                            static_cast<Py_ssize_t>(s.size() * sizeof(double)),
+                            reinterpret_cast<const char*>(point.data()),
+                            static_cast<Py_ssize_t>(point.size() * sizeof(std::uint64_t)));
     unpack(checked(r, "initialise"), reply);
   }
 

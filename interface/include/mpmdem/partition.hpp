@@ -31,6 +31,18 @@ inline std::vector<Partition> partition_contiguous(std::uint64_t n, int parts) {
 // range holds at least one item when cost.size() >= parts. Costs must be >= 0.
 std::vector<Partition> partition_by_cost(const std::vector<double>& cost, int parts);
 
+// Order of the RVEs on the wire (coupling.rve_order): slot s of the scatter/gather carries
+// the RVE of material point order[s], and server rank r owns a contiguous range of slots.
+// "contiguous" is the identity. "interleaved" is the bit-reversal (van der Corput) order:
+// any contiguous range of slots samples the points evenly (slots [0, n/2) hold the even
+// points, [0, n/4) every fourth, ...), for every rank count. Material points are numbered
+// cell by cell, so the identity hands each rank one region of the body, and RVE costs,
+// which follow the local strain rate, differ between regions and drift as the body moves;
+// interleaved ranges see the same mix of regions. Independent of the rank count, so a run
+// gives the same results on any number of ranks.
+enum class RveOrder { kContiguous, kInterleaved };
+std::vector<std::uint64_t> rve_order(std::uint64_t n, RveOrder kind);
+
 // Largest range sum over the mean range sum (1: perfectly balanced).
 double partition_imbalance(const std::vector<double>& cost, const std::vector<Partition>& parts);
 

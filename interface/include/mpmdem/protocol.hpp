@@ -23,8 +23,9 @@ namespace mpmdem::protocol {
 
 // 1.1: particles in kInitialise replies. 2.0: RveReply::cost_s; kRebalance (load balance).
 // 2.1: kFlagSkip (lazy RVE evaluation). 3.0: RankIdentity gather after the handshake (peer
-// faults: the client names and probes the server ranks).
-inline constexpr std::uint16_t kVersionMajor = 3;
+// faults: the client names and probes the server ranks). 4.0: RveInit::point (the RVE order on
+// the wire is the client's choice, coupling.rve_order).
+inline constexpr std::uint16_t kVersionMajor = 4;
 inline constexpr std::uint16_t kVersionMinor = 0;
 
 // "MPMD" in ASCII; a peer that reads another value speaks another protocol or byte order.
@@ -106,7 +107,10 @@ struct Hello {
 
 // Initial state of one RVE (MessageKind::kInitialise): the stress it must start from.
 struct RveInit {
-  double stress[9];  // Cauchy stress, tension positive, row-major [Pa]
+  double stress[9];     // Cauchy stress, tension positive, row-major [Pa]
+  std::uint64_t point;  // (4.0) the client's name of this RVE (mpm_app: its material point).
+                        // The server draws the RVE's packing from it and names the RVE by
+                        // it, so results do not depend on the RVE's place (slot) on the wire
 };
 
 // One RVE's work for one coupling step (MessageKind::kStep).
@@ -145,7 +149,7 @@ struct RankReport {
 
 static_assert(sizeof(ControlHeader) == 256, "ControlHeader layout changed: bump kVersionMajor");
 static_assert(sizeof(Hello) == 120, "Hello layout changed: bump kVersionMajor");
-static_assert(sizeof(RveInit) == 72, "RveInit layout changed: bump kVersionMajor");
+static_assert(sizeof(RveInit) == 80, "RveInit layout changed: bump kVersionMajor");
 static_assert(sizeof(RveRequest) == 88, "RveRequest layout changed: bump kVersionMajor");
 static_assert(sizeof(RveReply) == 144, "RveReply layout changed: bump kVersionMajor");
 static_assert(sizeof(RankReport) == 256, "RankReport layout changed: bump kVersionMajor");

@@ -1,5 +1,8 @@
 // The `remote` provider: every material point is an RVE on the DEM server (dem_app),
 // reached over MPI ports through mpmdem::RveClient. One exchange per MPM step.
+// Material point p travels in wire slot slot_[p] (coupling.rve_order; partition.hpp): the
+// requests are packed into slots and the replies unpacked, and the load balance works on
+// slots, since the server ranks own ranges of slots.
 #include "constitutive/remote.hpp"
 
 #include <cstring>
@@ -11,6 +14,7 @@
 #include "constitutive/lazy_evaluation.hpp"
 #include "constitutive/load_balancer.hpp"
 #include "mpmdem/exchange.hpp"
+#include "mpmdem/partition.hpp"
 
 namespace mpmdem::mpm {
 
@@ -21,9 +25,13 @@ using RowMajor3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
 class RemoteProvider : public ConstitutiveProvider {
  public:
   RemoteProvider(const Scene& scene, std::size_t n_points, const std::string& run_dir)
-      : lazy_(scene.coupling.lazy_tolerance),
+      : order_(rve_order(n_points, scene.coupling.rve_order_interleaved ? RveOrder::kInterleaved
+                                                                        : RveOrder::kContiguous)),
+        slot_(n_points),
+        lazy_(scene.coupling.lazy_tolerance),
         balancer_(scene.coupling.load_balance_threshold, scene.coupling.load_balance_min_interval,
                   scene.coupling.load_balance_smoothing) {
+    for (std::size_t s = 0; s < order_.size(); ++s) slot_[order_[s]] = s;
     ConnectOptions opts;
     opts.service_name = scene.coupling.service_name;
     opts.port_file = std::filesystem::path(run_dir) / scene.coupling.port_file;
@@ -52,7 +60,9 @@ class RemoteProvider : public ConstitutiveProvider {
                   std::vector<PointResponse>& out) override {
     std::vector<protocol::RveInit> init(initial_stress.size());
     for (std::size_t p = 0; p < init.size(); ++p) {
-      Eigen::Map<RowMajor3>(init[p].stress) = initial_stress[p];
+      protocol::RveInit& r = init[slot_[p]];
+      Eigen::Map<RowMajor3>(r.stress) = initial_stress[p];
+      r.point = p;
     }
     const auto replies = client_.initialise(init);
     particles_ = 0;
@@ -71,7 +81,7 @@ class RemoteProvider : public ConstitutiveProvider {
               std::vector<PointResponse>& out) override {
     requests_.resize(dF.size());
     for (std::size_t p = 0; p < dF.size(); ++p) {
-      protocol::RveRequest& r = requests_[p];
+      protocol::RveRequest& r = requests_[slot_[p]];
       r.flags = 0;
       r.reserved = 0;
       Mat3 run_dF;
@@ -129,11 +139,11 @@ class RemoteProvider : public ConstitutiveProvider {
   void finish() override { client_.shutdown(); }
 
  private:
-  static void to_responses(const std::vector<protocol::RveReply>& replies,
-                           std::vector<PointResponse>& out) {
+  void to_responses(const std::vector<protocol::RveReply>& replies,
+                    std::vector<PointResponse>& out) const {
     out.resize(replies.size());
     for (std::size_t p = 0; p < replies.size(); ++p) {
-      const protocol::RveReply& r = replies[p];
+      const protocol::RveReply& r = replies[slot_[p]];
       PointResponse& o = out[p];
       o.stress = Eigen::Map<const RowMajor3>(r.stress);
       o.stiffness = r.stiffness;
@@ -145,6 +155,8 @@ class RemoteProvider : public ConstitutiveProvider {
     }
   }
 
+  std::vector<std::uint64_t> order_;  // slot -> material point
+  std::vector<std::size_t> slot_;     // material point -> slot
   RveClient client_;
   LazyEvaluation lazy_;
   LoadBalancer balancer_;

@@ -9,28 +9,14 @@
 # Env: MPMDEM_BIN (build dir), MPMDEM_SRC (source dir). scripts/run stops every process it
 # starts by PID.
 set -uo pipefail
-bin=${MPMDEM_BIN:?set MPMDEM_BIN to the build directory}
 src=${MPMDEM_SRC:-$(cd "$(dirname "$0")/../.." && pwd)}
-work=$bin/test-runs/column_yade
-rm -rf "$work/full" "$work/resumed"
-mkdir -p "$work"
-sed -e "s|PACKING_DIR|$bin/test-packings/column_collapse|" \
-  -e "s|PACKING_SPEC|$src/configs/packings/column_collapse.yaml|" \
-  "$src/tests/integration/column_yade_tiny.yaml" >"$work/scene.yaml"
-export MPMDEM_SKIP_SETUP=1 MPMDEM_BUILD_DIR=$bin
-if ! "$src/scripts/run" "$work/scene.yaml" --out "$work/full" --dem-ranks 2 >"$work/full.log" 2>&1; then
-  echo "FAIL: the run failed" >&2; tail -n 40 "$work/full.log" >&2; exit 1
-fi
+# shellcheck source=common.sh
+source "$src/tests/integration/common.sh"
+test_workdir column_yade
+tiny_column_scene "$work/scene.yaml"
+run_job "$work/full.log" "$work/scene.yaml" --out "$work/full" --dem-ranks 2
 # Resume a copy from the newest checkpoint at or before step 80 (drop the later ones).
-cp -r "$work/full" "$work/resumed"
-for d in "$work/resumed"/checkpoints/step_*; do
-  n=$((10#${d##*step_}))
-  ((n > 80)) && rm -rf "$d"
-done
-rm -f "$work/resumed/summary.json" "$work/resumed/final_state.h5"
-if ! "$src/scripts/run" --resume "$work/resumed" --dem-ranks 2 >"$work/resumed.log" 2>&1; then
-  echo "FAIL: the resumed run failed" >&2; tail -n 40 "$work/resumed.log" >&2; exit 1
-fi
+resume_from "$work/full" "$work/resumed" 80 "$work/resumed.log"
 /usr/bin/python3 - "$work/full" "$work/resumed" <<'PY'
 import csv, json, math, os, sys
 import h5py, numpy as np

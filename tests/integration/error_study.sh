@@ -10,12 +10,10 @@
 #    key path into a scalar) exits 2 naming the key and the file, and runs nothing.
 # Env: MPMDEM_BIN (build dir), MPMDEM_SRC (source dir).
 set -uo pipefail
-bin=${MPMDEM_BIN:?set MPMDEM_BIN to the build directory}
 src=${MPMDEM_SRC:-$(cd "$(dirname "$0")/../.." && pwd)}
-work=$bin/test-runs/error_study
-rm -rf "$work"
-mkdir -p "$work"
-export MPMDEM_SKIP_SETUP=1 MPMDEM_BUILD_DIR=$bin
+# shellcheck source=common.sh
+source "$src/tests/integration/common.sh"
+test_workdir error_study
 evr=$src/scripts/error_vs_runtime
 studies=$src/tests/integration/studies
 fail() { echo "FAIL: $*" >&2; exit 1; }

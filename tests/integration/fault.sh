@@ -13,12 +13,10 @@
 # (by PID) on failure.
 set -uo pipefail
 case_name=${1:?usage: fault.sh elastic}
-bin=${MPMDEM_BIN:?set MPMDEM_BIN to the build directory}
 src=${MPMDEM_SRC:-$(cd "$(dirname "$0")/../.." && pwd)}
-work=$bin/test-runs/fault_$case_name
-rm -rf "$work"
-mkdir -p "$work"
-export MPMDEM_SKIP_SETUP=1 MPMDEM_BUILD_DIR=$bin
+# shellcheck source=common.sh
+source "$src/tests/integration/common.sh"
+test_workdir "fault_$case_name"
 run_pid=""
 stop_run() { [[ -n $run_pid ]] && kill -TERM "$run_pid" 2>/dev/null && wait "$run_pid" 2>/dev/null; }
 trap stop_run EXIT
@@ -85,12 +83,8 @@ PY
 [[ -e $work/killed/final_state.h5 ]] && fail "the killed run left a final_state.h5 (half-written result presented as whole)"
 
 # 2. Resume it, and run the same scene without interruption.
-if ! "$src/scripts/run" --resume "$work/killed" --dem-ranks 2 >"$work/resumed.log" 2>&1; then
-  fail "the resumed run failed"; tail -n 30 "$work/resumed.log" >&2
-fi
-if ! "$src/scripts/run" "$work/scene.yaml" --out "$work/full" --dem-ranks 2 >"$work/full.log" 2>&1; then
-  fail "the uninterrupted run failed"; tail -n 30 "$work/full.log" >&2
-fi
+run_job "$work/resumed.log" --resume "$work/killed" --dem-ranks 2
+run_job "$work/full.log" "$work/scene.yaml" --out "$work/full" --dem-ranks 2
 /usr/bin/python3 - "$work/full" "$work/killed" <<'PY' || fail "resumed end state differs"
 import json, sys
 import h5py, numpy as np

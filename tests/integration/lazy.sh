@@ -9,30 +9,16 @@
 #    equal to the uninterrupted lazy run.
 # Env: MPMDEM_BIN (build dir), MPMDEM_SRC (source dir).
 set -uo pipefail
-bin=${MPMDEM_BIN:?set MPMDEM_BIN to the build directory}
 src=${MPMDEM_SRC:-$(cd "$(dirname "$0")/../.." && pwd)}
-work=$bin/test-runs/lazy
-rm -rf "$work"
-mkdir -p "$work"
-export MPMDEM_SKIP_SETUP=1 MPMDEM_BUILD_DIR=$bin
-sed -e "s|PACKING_DIR|$bin/test-packings/column_collapse|" \
-  -e "s|PACKING_SPEC|$src/configs/packings/column_collapse.yaml|" \
-  "$src/tests/integration/column_yade_tiny.yaml" >"$work/plain.yaml"
+# shellcheck source=common.sh
+source "$src/tests/integration/common.sh"
+test_workdir lazy
+tiny_column_scene "$work/plain.yaml"
 sed -e 's/^  backend: yade/  backend: yade\n  lazy_tolerance: 2.0e-4/' "$work/plain.yaml" >"$work/lazy.yaml"
 for name in plain lazy; do
-  if ! "$src/scripts/run" "$work/$name.yaml" --out "$work/$name" --dem-ranks 2 >"$work/$name.log" 2>&1; then
-    echo "FAIL: run $name failed" >&2; tail -n 30 "$work/$name.log" >&2; exit 1
-  fi
+  run_job "$work/$name.log" "$work/$name.yaml" --out "$work/$name" --dem-ranks 2
 done
-cp -r "$work/lazy" "$work/resumed"
-for d in "$work/resumed"/checkpoints/step_*; do
-  n=$((10#${d##*step_}))
-  ((n > 80)) && rm -rf "$d"
-done
-rm -f "$work/resumed/summary.json" "$work/resumed/final_state.h5"
-if ! "$src/scripts/run" --resume "$work/resumed" --dem-ranks 2 >"$work/resumed.log" 2>&1; then
-  echo "FAIL: the resumed run failed" >&2; tail -n 30 "$work/resumed.log" >&2; exit 1
-fi
+resume_from "$work/lazy" "$work/resumed" 80 "$work/resumed.log"
 /usr/bin/python3 - "$work" <<'PY'
 import json, sys
 import h5py, numpy as np

@@ -20,19 +20,15 @@
 # Env: MPMDEM_BIN (build dir), MPMDEM_SRC (source dir).
 set -uo pipefail
 case=${1:?usage: load_balance.sh elastic|yade}
-bin=${MPMDEM_BIN:?set MPMDEM_BIN to the build directory}
 src=${MPMDEM_SRC:-$(cd "$(dirname "$0")/../.." && pwd)}
-work=$bin/test-runs/load_balance_$case
-rm -rf "$work"
-mkdir -p "$work"
-export MPMDEM_SKIP_SETUP=1 MPMDEM_BUILD_DIR=$bin
+# shellcheck source=common.sh
+source "$src/tests/integration/common.sh"
+test_workdir "load_balance_$case"
 lb_block='  load_balance:\n    threshold: 0.01\n    min_interval_steps: MININT\n    smoothing: 1.0'
 run() {  # name scene [extra scripts/run args]
   local name=$1 scene=$2
   shift 2
-  if ! "$src/scripts/run" "$scene" --out "$work/$name" --dem-ranks 2 "$@" >"$work/$name.log" 2>&1; then
-    echo "FAIL: run $name failed" >&2; tail -n 30 "$work/$name.log" >&2; exit 1
-  fi
+  run_job "$work/$name.log" "$scene" --out "$work/$name" --dem-ranks 2 "$@"
 }
 
 if [[ $case == elastic ]]; then
@@ -76,24 +72,14 @@ PY
 fi
 
 # yade
-sed -e "s|PACKING_DIR|$bin/test-packings/column_collapse|" \
-  -e "s|PACKING_SPEC|$src/configs/packings/column_collapse.yaml|" \
-  "$src/tests/integration/column_yade_tiny.yaml" >"$work/plain.yaml"
+tiny_column_scene "$work/plain.yaml"
 sed -e "s/^  backend: yade/  backend: yade\n${lb_block//MININT/10}/" "$work/plain.yaml" >"$work/lb.yaml"
 run plain "$work/plain.yaml"
 run lb "$work/lb.yaml"
 sed -e "s/^  backend: yade/  backend: yade\n  rve_order: contiguous/" "$work/plain.yaml" >"$work/contiguous.yaml"
 run contiguous "$work/contiguous.yaml"
 # Resume the migrated run from its checkpoint at step 80 (written after migrations).
-cp -r "$work/lb" "$work/resumed"
-for d in "$work/resumed"/checkpoints/step_*; do
-  n=$((10#${d##*step_}))
-  ((n > 80)) && rm -rf "$d"
-done
-rm -f "$work/resumed/summary.json" "$work/resumed/final_state.h5"
-if ! "$src/scripts/run" --resume "$work/resumed" --dem-ranks 2 >"$work/resumed.log" 2>&1; then
-  echo "FAIL: the resumed run failed" >&2; tail -n 30 "$work/resumed.log" >&2; exit 1
-fi
+resume_from "$work/lb" "$work/resumed" 80 "$work/resumed.log"
 /usr/bin/python3 - "$work" <<'PY'
 import json, re, sys
 import h5py, numpy as np

@@ -3,21 +3,20 @@
 #  - the fit recovers a known serial fraction exactly (scripts/lib/amdahl.py self-test);
 #  - a study of the elastic-stub column on 1 and 2 DEM ranks (20 steps, --set override)
 #    writes its table and both figures, every phase time is positive and the step time is
-#    the sum of its phases;
+#    the sum of its phases; with 2 repetitions the per-repetition DEM efficiencies (each
+#    2-rank run against the 1-rank run beside it) and their median are reported;
 #  - the cost model's projection for the paper's case meets the issue's target (speedup at
 #    128 nodes >= 3x the paper's 31.66) with the measured default costs, and its Amdahl fit
 #    of the projection has a serial fraction below the paper's 1.97 %.
 # Env: MPMDEM_BIN (build dir), MPMDEM_SRC (source dir).
 set -uo pipefail
-bin=${MPMDEM_BIN:?set MPMDEM_BIN to the build directory}
 src=${MPMDEM_SRC:-$(cd "$(dirname "$0")/../.." && pwd)}
-work=$bin/test-runs/scaling
-rm -rf "$work"
-mkdir -p "$work"
+# shellcheck source=common.sh
+source "$src/tests/integration/common.sh"
+test_workdir scaling
 /usr/bin/python3 "$src/scripts/lib/amdahl.py" || { echo "FAIL: amdahl self-test" >&2; exit 1; }
-export MPMDEM_SKIP_SETUP=1 MPMDEM_BUILD_DIR=$bin
 if ! "$src/scripts/scaling_study" "$src/configs/elastic_column_remote.yaml" --ranks 1,2 \
-  --steps 20 --warmup 2 --set solver.end_time=0.1 --out "$work/study" >"$work/study.log" 2>&1; then
+  --steps 20 --warmup 2 --repeat 2 --set solver.end_time=0.1 --out "$work/study" >"$work/study.log" 2>&1; then
   echo "FAIL: scaling_study failed" >&2; tail -n 30 "$work/study.log" >&2; exit 1
 fi
 "$src/scripts/scaling_study" "$src/configs/elastic_column_remote.yaml" --ranks 1,x >/dev/null 2>&1
@@ -35,6 +34,17 @@ for r in rows:
 assert abs(float(rows[0]["speedup"]) - 1.0) < 1e-12
 for f in ("scaling.md", "fig3_phases.png", "fig4_speedup.png", "scene.yaml", "raw.csv"):
     assert os.path.getsize(f"{w}/study/{f}") > 0, f
+raw = list(csv.DictReader(open(f"{w}/study/raw.csv")))
+assert sorted((int(r["ranks"]), int(r["repetition"])) for r in raw) == [(1, 0), (1, 1), (2, 0), (2, 1)]
+# The per-repetition efficiencies: each 2-rank run against the 1-rank run of its repetition.
+dem = {(int(r["ranks"]), int(r["repetition"])): float(r["dem"]) for r in raw}
+want = [100 * dem[1, k] / (2 * dem[2, k]) for k in (0, 1)]
+line = re.search(r"- 2 ranks: ([0-9.]+), ([0-9.]+) %; median ([0-9.]+) %",
+                 open(f"{w}/study/scaling.md").read())
+assert line, "no per-repetition DEM efficiency in scaling.md"
+got = [float(line.group(1)), float(line.group(2))]
+assert all(abs(g - e) < 0.051 for g, e in zip(got, want)), (got, want)
+assert abs(float(line.group(3)) - sum(want) / 2) < 0.051, (line.group(3), want)
 for n in (1, 2):
     s = open(f"{w}/study/runs/ranks_{n}_0/summary.json").read()
     assert '"status": "truncated"' in s and '"steps": 20' in s, f"ranks {n}: not cut at 20 steps"

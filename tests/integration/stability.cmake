@@ -4,19 +4,21 @@
 # table is checked by tests/integration/stability_check.py (dt ~ 1/sqrt(E) from
 # c = sqrt(M/rho), the unstable case detected with its point and step, no NaN/Inf in any
 # output). Every process is stopped by PID by scripts/run, scripts/element_test (pair.sh).
-set(_stab_env "MPMDEM_SKIP_SETUP=1" "MPMDEM_BUILD_DIR=${PROJECT_BINARY_DIR}")
-set(_stab_out ${PROJECT_BINARY_DIR}/test-runs/stability)
-add_test(NAME stability_suite_quick
-  COMMAND sh -c "rm -rf \"$1\" && \"$2\" --quick --out \"$1\"; rc=$?; /usr/bin/python3 \"$3\" \"$1\" quick $rc"
-          sh ${_stab_out}/quick ${PROJECT_SOURCE_DIR}/scripts/stability_suite
-          ${CMAKE_CURRENT_LIST_DIR}/stability_check.py)
-set_tests_properties(stability_suite_quick PROPERTIES TIMEOUT 240 LABELS integration
-                     ENVIRONMENT "${_stab_env}" RUN_SERIAL TRUE)
+
+# stability_test(NAME CHECK_SET TIMEOUT SUITE_ARGS...): the suite into test-runs/stability/
+# CHECK_SET, then stability_check.py on its table with the suite's exit code.
+function(stability_test name check_set timeout)
+  set(out ${PROJECT_BINARY_DIR}/test-runs/stability/${check_set})
+  list(JOIN ARGN " " suite_args)
+  add_test(NAME ${name}
+    COMMAND sh -c "rm -rf \"$1\" && \"$2\" ${suite_args} --out \"$1\"; rc=$?; /usr/bin/python3 \"$3\" \"$1\" ${check_set} $rc"
+            sh ${out} ${PROJECT_SOURCE_DIR}/scripts/stability_suite
+            ${CMAKE_CURRENT_FUNCTION_LIST_DIR}/stability_check.py)
+  set_tests_properties(${name} PROPERTIES TIMEOUT ${timeout} LABELS integration RUN_SERIAL TRUE
+    ENVIRONMENT "MPMDEM_SKIP_SETUP=1;MPMDEM_BUILD_DIR=${PROJECT_BINARY_DIR}")
+endfunction()
+
+stability_test(stability_suite_quick quick 240 --quick)
 if(MPMDEM_WITH_YADE AND EXISTS /usr/bin/yade AND EXISTS /usr/bin/python3.11-config)
-  add_test(NAME stability_suite_yade
-    COMMAND sh -c "rm -rf \"$1\" && \"$2\" --only free_fall_rves,dF_1e-2 --out \"$1\"; rc=$?; /usr/bin/python3 \"$3\" \"$1\" yade $rc"
-            sh ${_stab_out}/yade ${PROJECT_SOURCE_DIR}/scripts/stability_suite
-            ${CMAKE_CURRENT_LIST_DIR}/stability_check.py)
-  set_tests_properties(stability_suite_yade PROPERTIES TIMEOUT 300 LABELS integration
-                       ENVIRONMENT "${_stab_env}" RUN_SERIAL TRUE)
+  stability_test(stability_suite_yade yade 300 --only free_fall_rves,dF_1e-2)
 endif()

@@ -16,21 +16,13 @@
 #include "config/scene_loader.hpp"
 #include "output/checkpoint.hpp"
 #include "run_driver.hpp"
+#include "test_support.hpp"
 
 using namespace mpmdem::mpm;
+using test_support::TempDir;
 namespace fs = std::filesystem;
 
 namespace {
-
-struct TempDir {
-  explicit TempDir(const std::string& tag) {
-    path = fs::temp_directory_path() / ("mpmdem_column_" + tag + "_" + std::to_string(::getpid()));
-    fs::remove_all(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-  std::string str() const { return path.string(); }
-  fs::path path;
-};
 
 Scene mc_scene() {
   return load_scene(std::string(MPMDEM_SOURCE_DIR) + "/configs/column_collapse_mc.yaml");
@@ -158,7 +150,7 @@ TEST(ColumnCollapse, ResumedRunEndsInExactlyTheUninterruptedState) {
   const ColumnRun a = run(scene, full.str());
   ASSERT_EQ(a.result.exit_code, 0);
   // Continue a copy from a checkpoint in stage 2 (the constraint released, snapshot 1 done).
-  fs::copy(full.path, part.path, fs::copy_options::recursive);
+  fs::copy(full.path(), part.path(), fs::copy_options::recursive);
   const std::string ckpt = checkpoint_directory(part.str(), 1400);
   ASSERT_TRUE(fs::exists(ckpt + "/COMPLETE"));
   EXPECT_EQ(latest_checkpoint(part.str()),
@@ -188,7 +180,7 @@ TEST(ColumnCollapse, SceneErrorsNameTheKey) {
                                 std::string("release_constraint: lateral_face").size(),
                                 "release_constraint: nope");
   TempDir dir("bad");
-  fs::create_directories(dir.path);
+  fs::create_directories(dir.path());
   const std::string file = dir.str() + "/bad.yaml";
   std::ofstream(file) << bad;
   try {

@@ -26,39 +26,14 @@
 #include "output/vtk_writer.hpp"
 #include "progress.hpp"
 #include "run_driver.hpp"
+#include "test_support.hpp"
 
 namespace fs = std::filesystem;
 using namespace mpmdem::mpm;
+using test_support::read_file;
+using test_support::TempDir;
 
 namespace {
-
-// A fresh directory under the system temp dir, removed at the end of the test.
-class TempDir {
- public:
-  explicit TempDir(const std::string& tag) {
-    path_ = fs::temp_directory_path() /
-            ("mpmdem_" + tag + "_" + std::to_string(::getpid()) + "_" + std::to_string(count_++));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  std::string str() const { return path_.string(); }
-  fs::path path() const { return path_; }
-
- private:
-  fs::path path_;
-  static inline int count_ = 0;
-};
-
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 // Five points with distinct, recognisable values.
 Particles sample_particles(std::size_t n = 5) {
@@ -208,7 +183,7 @@ RunOptions quiet_options(const std::string& dir, std::ostream& sink) {
 }  // namespace
 
 TEST(VtkWriter, FramesParseBackWithTheValuesWritten) {
-  TempDir dir("vtk");
+  TempDir dir("vtk", TempDir::kCreate);
   const Particles p = sample_particles();
   VtkSeries series(dir.str());
   EXPECT_EQ(series.write_frame(p, 0.0), "frame_00000.vtu");
@@ -252,7 +227,7 @@ TEST(VtkWriter, FramesParseBackWithTheValuesWritten) {
 }
 
 TEST(VtkWriter, RveOutputsAppearWhenFilled) {
-  TempDir dir("vtk_rve");
+  TempDir dir("vtk_rve", TempDir::kCreate);
   Particles p = sample_particles(3);
   p.porosity = {0.4, 0.41, 0.42};
   p.coordination = {4.0, 4.5, 5.0};
@@ -268,7 +243,7 @@ TEST(VtkWriter, RveOutputsAppearWhenFilled) {
 }
 
 TEST(Hdf5Writer, FinalStateReadsBackWithTheCApi) {
-  TempDir dir("h5");
+  TempDir dir("h5", TempDir::kCreate);
   const Particles p = sample_particles();
   const std::string path = (dir.path() / "final_state.h5").string();
   write_final_state(path, p, {1.25, 4321, "column", "configs/x.yaml"});
@@ -324,7 +299,7 @@ TEST(Hdf5Writer, FinalStateReadsBackWithTheCApi) {
 }
 
 TEST(EnergyLog, HeaderAndDissipatedEnergyIdentity) {
-  TempDir dir("energy");
+  TempDir dir("energy", TempDir::kCreate);
   const fs::path path = dir.path() / "energies.csv";
   {
     EnergyLog log(path.string());
@@ -372,7 +347,7 @@ TEST(Progress, LineHasStepTimePercentDtEtaAndEnergyRatio) {
 }
 
 TEST(RunDirectory, RefusesAFinishedRunUnlessForced) {
-  TempDir dir("rundir");
+  TempDir dir("rundir", TempDir::kCreate);
   const std::string run = (dir.path() / "run").string();
   EXPECT_NO_THROW(check_run_directory(run, false));  // does not exist yet
   EXPECT_FALSE(fs::exists(run));                     // and checking did not create it
@@ -389,7 +364,7 @@ TEST(RunDirectory, RefusesAFinishedRunUnlessForced) {
 }
 
 TEST(RunOutputs, AShortRunWritesEveryOutputConsistently) {
-  TempDir dir("run");
+  TempDir dir("run", TempDir::kCreate);
   const std::string run = (dir.path() / "column").string();
   const Scene scene = short_column();
   std::ostringstream log;
@@ -454,7 +429,7 @@ TEST(RunOutputs, AShortRunWritesEveryOutputConsistently) {
 TEST(RunOutputs, ConfigErrorCreatesNoDirectory) {
   const std::string app = std::string(MPMDEM_BINARY_DIR) + "/mpm_app/mpm_app";
   ASSERT_TRUE(fs::exists(app)) << "build the mpm_app target first: " << app;
-  TempDir dir("cfg");
+  TempDir dir("cfg", TempDir::kCreate);
   const fs::path bad = dir.path() / "bad.yaml";
   std::string text = read_file(source("configs/elastic_column.yaml"));
   text += "\nno_such_key: 1\n";

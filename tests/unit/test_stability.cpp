@@ -23,38 +23,16 @@
 #include "particle_init.hpp"
 #include "run_driver.hpp"
 #include "state_guard.hpp"
+#include "test_support.hpp"
 
 namespace fs = std::filesystem;
 using namespace mpmdem::mpm;
+using test_support::read_file;
+using test_support::TempDir;
 
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-class TempDir {
- public:
-  explicit TempDir(const std::string& tag) {
-    path_ = fs::temp_directory_path() /
-            ("mpmdem_stab_" + tag + "_" + std::to_string(::getpid()) + "_" + std::to_string(n_++));
-    fs::remove_all(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  std::string str() const { return path_.string(); }
-
- private:
-  fs::path path_;
-  static inline int n_ = 0;
-};
-
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 Scene column(double end_time, double damping) {
   Scene s = load_scene(std::string(MPMDEM_SOURCE_DIR) + "/configs/elastic_column.yaml");

@@ -21,38 +21,16 @@
 #include "constitutive/linear_elastic.hpp"
 #include "particle_init.hpp"
 #include "run_driver.hpp"
+#include "test_support.hpp"
 #include "verification/bar_vibration.hpp"
 #include "verification/elastic_column.hpp"
 
 namespace fs = std::filesystem;
 using namespace mpmdem::mpm;
+using test_support::read_file;
+using test_support::TempDir;
 
 namespace {
-
-class TempDir {
- public:
-  explicit TempDir(const std::string& tag) {
-    path_ = fs::temp_directory_path() /
-            ("mpmdem_" + tag + "_" + std::to_string(::getpid()) + "_" + std::to_string(count_++));
-    fs::remove_all(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  std::string str() const { return path_.string(); }
-
- private:
-  fs::path path_;
-  static inline int count_ = 0;
-};
-
-std::string read_file(const std::string& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 std::string source(const std::string& rel) {
   return std::string(MPMDEM_SOURCE_DIR) + "/" + rel;

@@ -1,0 +1,46 @@
+# Shared set-up of the integration scripts that run whole jobs through scripts/run (which
+# starts and stops every process by PID). Source it after setting `src`:
+#   src=${MPMDEM_SRC:-$(cd "$(dirname "$0")/../.." && pwd)}
+#   source "$src/tests/integration/common.sh"
+#   test_workdir NAME [keep]  # bin, work=$bin/test-runs/NAME (emptied unless `keep`)
+# Env: MPMDEM_BIN (build dir, required), MPMDEM_SRC (source dir).
+
+test_workdir() {
+  bin=${MPMDEM_BIN:?set MPMDEM_BIN to the build directory}
+  work=$bin/test-runs/$1
+  [[ ${2:-} == keep ]] || rm -rf "$work"
+  mkdir -p "$work"
+  export MPMDEM_SKIP_SETUP=1 MPMDEM_BUILD_DIR=$bin
+}
+
+# tiny_column_scene DEST: the tiny multiscale column (8 YADE RVEs) with the test packings.
+tiny_column_scene() {
+  sed -e "s|PACKING_DIR|$bin/test-packings/column_collapse|" \
+    -e "s|PACKING_SPEC|$src/configs/packings/column_collapse.yaml|" \
+    "$src/tests/integration/column_yade_tiny.yaml" >"$1"
+}
+
+# run_job LOG ARGS...: scripts/run ARGS with output in LOG; on failure print its tail, exit 1.
+run_job() {
+  local log=$1
+  shift
+  if ! "$src/scripts/run" "$@" >"$log" 2>&1; then
+    echo "FAIL: scripts/run $* failed" >&2
+    tail -n 40 "$log" >&2
+    exit 1
+  fi
+}
+
+# resume_from RUN COPY STEP LOG: copy RUN to COPY, keep its checkpoints up to STEP, and
+# resume the copy (scripts/run --resume, 2 DEM ranks); on failure exit 1.
+resume_from() {
+  local run=$1 copy=$2 step=$3 log=$4 d n
+  rm -rf "$copy"
+  cp -r "$run" "$copy"
+  for d in "$copy"/checkpoints/step_*; do
+    n=$((10#${d##*step_}))
+    ((n > step)) && rm -rf "$d"
+  done
+  rm -f "$copy/summary.json" "$copy/final_state.h5"
+  run_job "$log" --resume "$copy" --dem-ranks 2
+}

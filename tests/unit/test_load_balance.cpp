@@ -171,11 +171,30 @@ TEST(LoadBalancer, SmoothingDampsASingleSpike) {
   mpm::LoadBalancer lb(0.2, 1, 0.1);
   const std::vector<double> flat(10, 1.0);
   std::vector<double> spike = flat;
-  spike[0] = 5.0;  // one slow step of one RVE
+  spike[0] = 4.0;  // one slow step of one RVE (within the spike cap)
   EXPECT_FALSE(lb.observe(1, replies_with_cost(flat), even).has_value());
   EXPECT_FALSE(lb.observe(2, replies_with_cost(spike), even).has_value())
-      << "smoothed: 1 + 0.1 * 4 = 1.4 on rank 0 -> imbalance 1.04 < 1.2";
-  EXPECT_NEAR(lb.smoothed_cost()[0], 1.4, 1e-12);
+      << "smoothed: 1 + 0.1 * 3 = 1.3 on rank 0 -> imbalance 1.03 < 1.2";
+  EXPECT_NEAR(lb.smoothed_cost()[0], 1.3, 1e-12);
+}
+
+// A paused process (or a preempted core) makes one step of one RVE look 1000x dearer: it
+// counts as at most kSpikeCap times the smoothed cost, and moves no RVE; a lasting 2x
+// change (a tiled cell) still gets through in full.
+TEST(LoadBalancer, APauseIsCappedButALastingChangeIsFollowed) {
+  const auto even = partition_contiguous(10, 2);
+  mpm::LoadBalancer lb(0.2, 1, 0.5);
+  const std::vector<double> flat(10, 1.0);
+  std::vector<double> pause = flat;
+  pause[0] = 1000.0;
+  EXPECT_FALSE(lb.observe(1, replies_with_cost(flat), even).has_value());
+  EXPECT_FALSE(lb.observe(2, replies_with_cost(pause), even).has_value())
+      << "capped: 0.5 * 1 + 0.5 * 4 = 2.5 on RVE 0 -> rank 0 6.5 vs 5: imbalance 1.13 < 1.2";
+  EXPECT_NEAR(lb.smoothed_cost()[0], 2.5, 1e-12);
+  std::vector<double> doubled = flat;
+  for (int i = 0; i < 5; ++i) doubled[static_cast<std::size_t>(i)] = 2.0;
+  for (int s = 3; s < 20; ++s) (void)lb.observe(s, replies_with_cost(doubled), even);
+  EXPECT_NEAR(lb.smoothed_cost()[1], 2.0, 1e-4) << "a lasting 2x change is followed in full";
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // Cost-aware load balance (see load_balancer.hpp).
 #include "constitutive/load_balancer.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace mpmdem::mpm {
@@ -20,7 +21,8 @@ std::optional<std::vector<Partition>> LoadBalancer::observe(
     first_step_ = step;
   } else {
     for (std::size_t i = 0; i < replies.size(); ++i) {
-      const double c = std::isfinite(replies[i].cost_s) ? std::max(0.0, replies[i].cost_s) : 0.0;
+      double c = std::isfinite(replies[i].cost_s) ? std::max(0.0, replies[i].cost_s) : 0.0;
+      if (cost_[i] > 0.0) c = std::min(c, kSpikeCap * cost_[i]);
       cost_[i] = (1.0 - smoothing_) * cost_[i] + smoothing_ * c;
     }
   }

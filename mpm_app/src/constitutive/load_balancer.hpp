@@ -1,7 +1,10 @@
 // Cost-aware load balance of the RVEs over the DEM server ranks (client side; issue 5).
 //
 // The servers return each RVE's backend time (RveReply::cost_s). The balancer keeps an
-// exponentially smoothed cost per RVE, c <- (1 - w) c + w cost_s, and after each step sums it
+// exponentially smoothed cost per RVE, c <- (1 - w) c + w min(cost_s, kSpikeCap c) (a pause
+// of the process, a page fault storm or a preempted core makes one step of one RVE look
+// hundreds of times dearer; a real change, such as a tiled cell, is at most a few times and
+// passes within a few steps), and after each step sums it
 // over the current partition's ranks. When max/mean - 1 exceeds `threshold` (and at least
 // `min_interval` steps have passed since the start or the last rebalance) it proposes the
 // contiguous partition that minimises the largest rank cost (partition_by_cost), if that
@@ -22,6 +25,9 @@ class LoadBalancer {
  public:
   // threshold 0: off (observe() never proposes anything).
   LoadBalancer(double threshold, std::int64_t min_interval, double smoothing);
+
+  // A step's cost counts for at most this many times the RVE's smoothed cost.
+  static constexpr double kSpikeCap = 4.0;
 
   bool enabled() const { return threshold_ > 0.0; }
   // After a step: fold in the replies' costs; a new partition if one is due.

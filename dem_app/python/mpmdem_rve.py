@@ -168,7 +168,7 @@ class RveSet:
 
     def _name(self, k, gid):
         """How messages name RVE k (slot gid): with its material point when that differs."""
-        point = self.state[k].get("point", gid) if k < len(self.state) else gid
+        point = self.state[k].get("point", gid)
         return "RVE %d" % gid if point == gid else "RVE %d (material point %d)" % (gid, point)
 
     def _fault(self, k, gid, status, what):

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "mpmdem/partition.hpp"
+
 namespace mpmdem::mpm {
 
 using Vec3 = Eigen::Vector3d;
@@ -105,11 +107,11 @@ struct CouplingParams {
   std::uint32_t outputs = 0;  // protocol::OutputBits
   std::string service_name = "mpmdem";
   double connect_timeout_s = 60.0;
-  double peer_timeout_s = 3600.0;          // longest wait for one exchange (unprobeable ranks)
-  std::string port_file = "dem_port.txt";  // relative to the run directory
-  double lazy_tolerance = 0.0;             // coupling.lazy_tolerance: 0 = off
-  bool rve_order_interleaved = true;       // coupling.rve_order (partition.hpp: rve_order)
-  double load_balance_threshold = 0.0;     // coupling.load_balance.*: 0 = off
+  double peer_timeout_s = 3600.0;               // longest wait for one exchange (unprobeable ranks)
+  std::string port_file = "dem_port.txt";       // relative to the run directory
+  double lazy_tolerance = 0.0;                  // coupling.lazy_tolerance: 0 = off
+  RveOrder rve_order = RveOrder::kInterleaved;  // coupling.rve_order
+  double load_balance_threshold = 0.0;          // coupling.load_balance.*: 0 = off
   std::int64_t load_balance_min_interval = 50;
   double load_balance_smoothing = 0.2;
   std::string canonical_text;  // canonical form of the whole section

@@ -253,7 +253,8 @@ CouplingParams load_coupling(const Config& cfg) {
   c.peer_timeout_s = cfg.number("coupling.peer_timeout_s");
   c.port_file = cfg.string("coupling.port_file");
   c.lazy_tolerance = cfg.number("coupling.lazy_tolerance");
-  c.rve_order_interleaved = cfg.string("coupling.rve_order") == "interleaved";
+  c.rve_order = cfg.string("coupling.rve_order") == "interleaved" ? RveOrder::kInterleaved
+                                                                  : RveOrder::kContiguous;
   c.load_balance_threshold = cfg.number("coupling.load_balance.threshold");
   c.load_balance_min_interval = cfg.integer("coupling.load_balance.min_interval_steps");
   c.load_balance_smoothing = cfg.number("coupling.load_balance.smoothing");

@@ -25,13 +25,12 @@ using RowMajor3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
 class RemoteProvider : public ConstitutiveProvider {
  public:
   RemoteProvider(const Scene& scene, std::size_t n_points, const std::string& run_dir)
-      : order_(rve_order(n_points, scene.coupling.rve_order_interleaved ? RveOrder::kInterleaved
-                                                                        : RveOrder::kContiguous)),
-        slot_(n_points),
+      : slot_(n_points),
         lazy_(scene.coupling.lazy_tolerance),
         balancer_(scene.coupling.load_balance_threshold, scene.coupling.load_balance_min_interval,
                   scene.coupling.load_balance_smoothing) {
-    for (std::size_t s = 0; s < order_.size(); ++s) slot_[order_[s]] = s;
+    const std::vector<std::uint64_t> order = rve_order(n_points, scene.coupling.rve_order);
+    for (std::size_t s = 0; s < order.size(); ++s) slot_[order[s]] = s;
     ConnectOptions opts;
     opts.service_name = scene.coupling.service_name;
     opts.port_file = std::filesystem::path(run_dir) / scene.coupling.port_file;
@@ -155,8 +154,7 @@ class RemoteProvider : public ConstitutiveProvider {
     }
   }
 
-  std::vector<std::uint64_t> order_;  // slot -> material point
-  std::vector<std::size_t> slot_;     // material point -> slot
+  std::vector<std::size_t> slot_;  // material point -> wire slot (coupling.rve_order)
   RveClient client_;
   LazyEvaluation lazy_;
   LoadBalancer balancer_;

@@ -80,22 +80,28 @@ std::string PeerWatch::describe(int rank) const {
   return s.str();
 }
 
-void PeerWatch::wait(MPI_Request& request, const std::string& during) const {
+void PeerWatch::wait(MPI_Request& request, const std::string& during, double quiet_s) const {
   using Clock = std::chrono::steady_clock;
+  const auto seconds = [](double s) {
+    return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
+  };
   const auto start = Clock::now();
-  auto next_probe = start + std::chrono::duration_cast<Clock::duration>(
-                                std::chrono::duration<double>(probe_interval_s_));
+  const auto quiet_end = start + seconds(std::max(quiet_s, 0.0));
+  auto next_probe = start + seconds(probe_interval_s_);
   std::chrono::microseconds pause(20);
   for (;;) {
     int done = 0;
     MPMDEM_CHECK_MPI(MPI_Test(&request, &done, MPI_STATUS_IGNORE));
     if (done) return;
-    std::this_thread::sleep_for(pause);
-    pause = std::min(pause * 2, std::chrono::microseconds(1000));
+    if (const auto t = Clock::now(); t < quiet_end) {
+      std::this_thread::sleep_for(std::min(quiet_end, next_probe) - t);
+    } else {
+      std::this_thread::sleep_for(pause);
+      pause = std::min(pause * 2, std::chrono::microseconds(1000));
+    }
     const auto now = Clock::now();
     if (now < next_probe) continue;
-    next_probe = now + std::chrono::duration_cast<Clock::duration>(
-                           std::chrono::duration<double>(probe_interval_s_));
+    next_probe = now + seconds(probe_interval_s_);
     if (const std::vector<int> dead = dead_ranks(); !dead.empty()) {
       throw PeerLost(
           list(dead, *this) + " died" + " during " + during + " (the process no longer exists)",

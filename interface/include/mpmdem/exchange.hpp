@@ -95,13 +95,14 @@ class RveClient {
 
  private:
   bool root() const { return conn_.local_rank() == 0; }
-  void wait(MPI_Request& request);
+  void wait(MPI_Request& request, double quiet_s = 0.0);
   void send_header(const protocol::ControlHeader& header);
   void gather_reports(const char* what);
   void require_connected(const char* what) const;
   template <class T>
   void scatter(const std::vector<T>& items, MPI_Datatype type);
-  void gather(std::vector<protocol::RveReply>& replies);
+  // Returns the time waited [s]; `quiet_s` as in PeerWatch::wait.
+  double gather(std::vector<protocol::RveReply>& replies, double quiet_s = 0.0);
 
   Connection conn_;
   HandshakeResult hs_;
@@ -115,6 +116,11 @@ class RveClient {
   std::string program_ = "mpm_app";
   PeerWatch watch_;
   std::string during_;  // what the current exchange is, for fault messages ("step 57")
+  // The last two steps' waits for the replies [s]; the next step sleeps kQuietFraction of
+  // the shorter one (so that a scene whose steps alternate between dear and cheap, with
+  // lazy evaluation, does not sleep through a cheap step).
+  double step_wait_s_[2] = {0.0, 0.0};
+  static constexpr double kQuietFraction = 0.6;
 };
 
 class RveServerChannel {

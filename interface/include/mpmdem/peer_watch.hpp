@@ -32,8 +32,12 @@ class PeerWatch {
 
   // Waits for `request` (MPI_Test). Throws PeerError if MPI reports an error, PeerLost if
   // a server rank died or the stall limit passed; `during` says what the client waited
-  // for ("step 57"), for the message.
-  void wait(MPI_Request& request, const std::string& during) const;
+  // for ("step 57"), for the message. `quiet_s`: a time in which the request is not
+  // expected to complete (the peers are computing); it is slept in long sleeps, still
+  // probing the peers every probe interval, instead of polled. Polling wakes the process
+  // ~1000 times a second, and on a machine whose cores all run DEM ranks each wake-up
+  // takes a core from one of them.
+  void wait(MPI_Request& request, const std::string& during, double quiet_s = 0.0) const;
 
   // Server ranks on this host whose process no longer exists.
   std::vector<int> dead_ranks() const;

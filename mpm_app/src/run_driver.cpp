@@ -25,6 +25,7 @@
 #include "output/energy_log.hpp"
 #include "output/hdf5_writer.hpp"
 #include "output/run_directory.hpp"
+#include "output/rve_cost_log.hpp"
 #include "output/timing_log.hpp"
 #include "output/vtk_writer.hpp"
 #include "particle_init.hpp"
@@ -238,6 +239,7 @@ class Run {
     d.rve_particles = rve_particles();
     d.provider_state = solver_->provider().save_state();
     if (timings_) timings_->flush();
+    if (rve_costs_) rve_costs_->flush();
     return d;
   }
 
@@ -268,6 +270,7 @@ class Run {
     if (resumed) {
       energy_.emplace(dir_ + "/energies.csv", solver_->step_count());
       timings_.emplace(dir_ + "/timings.csv", solver_->step_count());
+      rve_costs_from_ = solver_->step_count();
       if (scene_.output.vtk) vtk_.emplace(dir_, resumed_.frame_times);
       last_frame_step_ = resumed_.last_frame_step;
       last_energy_step_ = resumed_.last_energy_step;
@@ -370,6 +373,10 @@ class Run {
     s().step_cpu_time_s += process_cpu_time() - cpu_start;
     last_dt_ = solver_->dt();
     if (timings_) timings_->append(solver_->step_count(), solver_->time(), solver_->last_timing());
+    if (scene_.output.rve_costs && solver_->provider().last_rve_costs(cost_s_, cost_rank_)) {
+      if (!rve_costs_) rve_costs_.emplace(dir_, cost_s_.size(), rve_costs_from_);
+      rve_costs_->append(solver_->step_count(), cost_s_, cost_rank_);
+    }
     s().dt_min_s = std::min(s().dt_min_s, last_dt_);
     s().dt_max_s = std::max(s().dt_max_s, last_dt_);
   }
@@ -533,6 +540,7 @@ class Run {
       timings_->flush();
       for (const auto& kv : timings_->totals()) sum.analysis.push_back(kv);
     }
+    if (rve_costs_) rve_costs_->flush();
     if (opt_.final_particles) *opt_.final_particles = p;
     sum.wall_time_s = wall_time();
     if (!write_summary_file() && result_.exit_code == 0) result_.exit_code = kExitPeerError;
@@ -563,6 +571,10 @@ class Run {
   std::unique_ptr<Solver> solver_;
   std::optional<EnergyLog> energy_;
   std::optional<TimingLog> timings_;
+  std::optional<RveCostLog> rve_costs_;  // output.rve_costs, opened at the first step
+  std::int64_t rve_costs_from_ = -1;     // a resumed run: the checkpoint's step
+  std::vector<double> cost_s_;
+  std::vector<int> cost_rank_;
   std::optional<VtkSeries> vtk_;
   std::optional<BarVibrationMonitor> bar_;
   std::optional<ColumnCollapseMonitor> column_;

@@ -123,6 +123,7 @@ struct OutputParams {
   double energy_interval = 0.0;  // between energy CSV rows [s]; 0: every step
   bool vtk = true;
   bool hdf5 = true;
+  bool rve_costs = false;                      // rve_costs.csv and rve_ranks.csv (remote model)
   double progress_interval_s = 2.0;            // wall time between progress lines
   std::int64_t checkpoint_interval_steps = 0;  // 0: no checkpoints
   int checkpoints_kept = 2;

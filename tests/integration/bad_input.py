@@ -45,6 +45,8 @@ CASES = {
     "missing_packing_file": (edit(remote_base, ("packing_dir: ../packings/column_collapse", "packing_dir: /nonexistent/packings"),
                                   ("packing_spec: packings/column_collapse.yaml", "packing_spec: \"\"")),
                              ["coupling.yade.packings", "/nonexistent/packings", "packing_spec"]),
+    "rve_costs_without_remote": (edit(base, ("output:\n", "output:\n  rve_costs: true\n")),
+                                 ["output.rve_costs", "linear_elastic", "remote"]),
     "empty_file": ("", ["empty"]),
 }
 

@@ -4,7 +4,9 @@
 #  - a study of the elastic-stub column on 1 and 2 DEM ranks (20 steps, --set override)
 #    writes its table and both figures, every phase time is positive and the step time is
 #    the sum of its phases; with 2 repetitions the per-repetition DEM efficiencies (each
-#    2-rank run against the 1-rank run beside it) and their median are reported;
+#    2-rank run against the 1-rank run beside it) and their median are reported; with
+#    --rve-costs every run logs each RVE's cost per step and the 2-rank runs' partition
+#    efficiency is reported (partition_efficiency.py self-test: known answers);
 #  - the cost model's projection for the paper's case meets the issue's target (speedup at
 #    128 nodes >= 3x the paper's 31.66) with the measured default costs, and its Amdahl fit
 #    of the projection has a serial fraction below the paper's 1.97 %.
@@ -15,8 +17,9 @@ src=${MPMDEM_SRC:-$(cd "$(dirname "$0")/../.." && pwd)}
 source "$src/tests/integration/common.sh"
 test_workdir scaling
 /usr/bin/python3 "$src/scripts/lib/amdahl.py" || { echo "FAIL: amdahl self-test" >&2; exit 1; }
+/usr/bin/python3 "$src/scripts/lib/partition_efficiency.py" || { echo "FAIL: partition_efficiency self-test" >&2; exit 1; }
 if ! "$src/scripts/scaling_study" "$src/configs/elastic_column_remote.yaml" --ranks 1,2 \
-  --steps 20 --warmup 2 --repeat 2 --set solver.end_time=0.1 --out "$work/study" >"$work/study.log" 2>&1; then
+  --steps 20 --warmup 2 --repeat 2 --set solver.end_time=0.1 --rve-costs --out "$work/study" >"$work/study.log" 2>&1; then
   echo "FAIL: scaling_study failed" >&2; tail -n 30 "$work/study.log" >&2; exit 1
 fi
 "$src/scripts/scaling_study" "$src/configs/elastic_column_remote.yaml" --ranks 1,x >/dev/null 2>&1
@@ -45,6 +48,17 @@ assert line, "no per-repetition DEM efficiency in scaling.md"
 got = [float(line.group(1)), float(line.group(2))]
 assert all(abs(g - e) < 0.051 for g, e in zip(got, want)), (got, want)
 assert abs(float(line.group(3)) - sum(want) / 2) < 0.051, (line.group(3), want)
+# --rve-costs: each run logged 20 rows of costs; the 2-rank runs' rank map is the
+# interleaved split, so the partition efficiency (the 1-rank costs summed over the 2-rank
+# ranks) is recorded per repetition, and at most 1.
+for n in (1, 2):
+    costs = open(f"{w}/study/runs/ranks_{n}_0/rve_costs.csv").read().splitlines()
+    assert len(costs) == 21, len(costs)
+ranks = open(f"{w}/study/runs/ranks_2_0/rve_ranks.csv").read().splitlines()
+assert len(ranks) == 2 and sorted(set(ranks[1].split(",")[1:])) == ["0", "1"], ranks
+pe = {int(r["repetition"]): r["partition_efficiency"] for r in raw if r["ranks"] == "2"}
+assert all(0.5 < float(pe[k]) <= 1.0 for k in (0, 1)), pe
+assert re.search(r"- 2 ranks: partition [0-9.]+, [0-9.]+ %", open(f"{w}/study/scaling.md").read())
 for n in (1, 2):
     s = open(f"{w}/study/runs/ranks_{n}_0/summary.json").read()
     assert '"status": "truncated"' in s and '"steps": 20' in s, f"ranks {n}: not cut at 20 steps"

@@ -269,6 +269,12 @@ OutputParams load_output(const Config& cfg) {
   o.energy_interval = cfg.number("output.energy_interval");
   o.vtk = cfg.boolean("output.vtk");
   o.hdf5 = cfg.boolean("output.hdf5");
+  o.rve_costs = cfg.boolean("output.rve_costs");
+  if (o.rve_costs && cfg.string("constitutive.model") != "remote") {
+    cfg.fail("output.rve_costs", "is true but constitutive.model is '" +
+                                     cfg.string("constitutive.model") +
+                                     "': RVE costs exist only with the remote model");
+  }
   o.progress_interval_s = cfg.number("output.progress_interval_s");
   o.checkpoint_interval_steps = cfg.integer("output.checkpoint_interval_steps");
   o.checkpoints_kept = static_cast<int>(cfg.integer("output.checkpoints_kept"));

@@ -215,6 +215,10 @@ void add_output_keys(config::Schema& s) {
             .ge(0));
   s.add(key("output.vtk", Type::kBool, "", "write .vtu frames and a .pvd series").def("true"));
   s.add(key("output.hdf5", Type::kBool, "", "write the final state to HDF5").def("true"));
+  s.add(key("output.rve_costs", Type::kBool, "",
+            "remote model: write rve_costs.csv (each point's RVE backend time per step) and "
+            "rve_ranks.csv (the server rank of each point), for load-balance analysis")
+            .def("false"));
   s.add(key("output.checkpoint_interval_steps", Type::kInt, "-",
             "write a checkpoint of both sides every this many steps (checkpoints/step_<n>/; "
             "scripts/run --resume RUN continues from the newest complete one); 0: none")

@@ -54,6 +54,11 @@ class ConstitutiveProvider {
   }
   // Timing of the last update (remote; zeros for local models).
   virtual ProviderTiming last_timing() const { return {}; }
+  // Each point's RVE backend time in the last update [s] and the server rank that ran it
+  // (remote; false and untouched for local models).
+  virtual bool last_rve_costs(std::vector<double>& /*cost_s*/, std::vector<int>& /*rank*/) const {
+    return false;
+  }
   // Particles in all RVEs at initialisation (remote; 0 for local models).
   virtual std::int64_t rve_particles() const { return 0; }
   // Load-balance migrations so far in this process (remote; coupling.load_balance).

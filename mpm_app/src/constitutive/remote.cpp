@@ -5,6 +5,7 @@
 // slots, since the server ranks own ranges of slots.
 #include "constitutive/remote.hpp"
 
+#include <cassert>
 #include <cstring>
 #include <exception>
 #include <filesystem>
@@ -97,6 +98,7 @@ class RemoteProvider : public ConstitutiveProvider {
     header.time = time;
     header.dt = dt;
     client_.step(header, requests_, replies_);
+    step_parts_ = client_.partitions();
     to_responses(replies_, out);
     if (auto next = balancer_.observe(step, replies_, client_.partitions())) {
       const double t0 = MPI_Wtime();
@@ -108,6 +110,22 @@ class RemoteProvider : public ConstitutiveProvider {
                 << balancer_.last_imbalance_predicted() << " (" << (MPI_Wtime() - t0) << " s)"
                 << std::endl;
     }
+  }
+
+  bool last_rve_costs(std::vector<double>& cost_s, std::vector<int>& rank) const override {
+    cost_s.resize(slot_.size());
+    rank.resize(slot_.size());
+    // The partition the last step ran on (a migration after it changes the next step's).
+    const std::vector<Partition>& parts = step_parts_;
+    assert(!parts.empty() && "last_rve_costs() before the first step");
+    for (std::size_t p = 0; p < slot_.size(); ++p) {
+      const std::size_t s = slot_[p];
+      cost_s[p] = replies_[s].cost_s;
+      int r = 0;
+      while (s >= parts[r].offset + parts[r].count) ++r;
+      rank[p] = r;
+    }
+    return true;
   }
 
   std::int64_t rebalances() const override { return balancer_.rebalances(); }
@@ -161,6 +179,7 @@ class RemoteProvider : public ConstitutiveProvider {
   std::int64_t particles_ = 0;
   std::vector<protocol::RveRequest> requests_;
   std::vector<protocol::RveReply> replies_;
+  std::vector<Partition> step_parts_;  // the server ranks' slots in the last step
 };
 
 }  // namespace

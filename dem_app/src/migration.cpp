@@ -15,11 +15,9 @@ constexpr int kTagData = 7102;
 
 // Rank owning global RVE id `gid` under `parts` (contiguous, in order).
 int owner(const std::vector<Partition>& parts, std::uint64_t gid) {
-  for (std::size_t r = 0; r < parts.size(); ++r) {
-    if (gid >= parts[r].offset && gid < parts[r].offset + parts[r].count)
-      return static_cast<int>(r);
-  }
-  throw std::logic_error("RVE " + std::to_string(gid) + " is in no partition");
+  const int r = owner_of(parts, gid);
+  if (r < 0) throw std::logic_error("RVE " + std::to_string(gid) + " is in no partition");
+  return r;
 }
 
 void check(int rc, const char* what, int peer) {

@@ -40,17 +40,23 @@ def read_ranks(run_dir: Path) -> list[tuple[int, list[int]]]:
         return [(int(row[0]), [int(q) for q in row[1:]]) for row in r]
 
 
+def owners(ranks: list[tuple[int, list[int]]], t: int) -> list[int]:
+    """Each point's rank in step t: the last rank map written at or before t."""
+    owner = None
+    for first, r in ranks:
+        if first <= t:
+            owner = r
+    if owner is None:
+        raise ValueError(f"no rank map for step {t}")
+    return owner
+
+
 def efficiency(ref_costs: dict[int, list[float]], ranks: list[tuple[int, list[int]]],
                n_ranks: int, steps: Iterable[int]) -> float:
     """Partition efficiency over `steps` (each in ref_costs and covered by `ranks`)."""
     total = busiest = 0.0
     for t in sorted(steps):
-        owner = None
-        for first, r in ranks:
-            if first <= t:
-                owner = r
-        if owner is None:
-            raise ValueError(f"no rank map for step {t}")
+        owner = owners(ranks, t)
         c = ref_costs[t]
         if len(c) != len(owner):
             raise ValueError(f"step {t}: {len(c)} costs but {len(owner)} ranks")
@@ -71,7 +77,7 @@ def speed_spread(ref_costs: dict[int, list[float]], costs: dict[int, list[float]
     in both runs only)."""
     out = []
     for t in sorted(steps):
-        owner = [r for first, r in ranks if first <= t][-1]
+        owner = owners(ranks, t)
         ratios: list[list[float]] = [[] for _ in range(n_ranks)]
         for c_ref, c, q in zip(ref_costs[t], costs[t], owner):
             if c_ref > 0 and c > 0:

@@ -2,6 +2,7 @@
 // contiguous partitions, one per server rank; partition r holds RVEs [offset, offset+count).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -24,6 +25,14 @@ inline std::vector<Partition> partition_contiguous(std::uint64_t n, int parts) {
     offset += count;
   }
   return result;
+}
+
+// The rank whose partition holds item `i`, or -1 if none does (parts contiguous, in order).
+inline int owner_of(const std::vector<Partition>& parts, std::uint64_t i) {
+  for (std::size_t r = 0; r < parts.size(); ++r) {
+    if (i >= parts[r].offset && i < parts[r].offset + parts[r].count) return static_cast<int>(r);
+  }
+  return -1;
 }
 
 // Contiguous ranges of [0, cost.size()) for `parts` ranks that minimise the largest sum of

@@ -116,14 +116,10 @@ class RemoteProvider : public ConstitutiveProvider {
     cost_s.resize(slot_.size());
     rank.resize(slot_.size());
     // The partition the last step ran on (a migration after it changes the next step's).
-    const std::vector<Partition>& parts = step_parts_;
-    assert(!parts.empty() && "last_rve_costs() before the first step");
+    assert(!step_parts_.empty() && "last_rve_costs() before the first step");
     for (std::size_t p = 0; p < slot_.size(); ++p) {
-      const std::size_t s = slot_[p];
-      cost_s[p] = replies_[s].cost_s;
-      int r = 0;
-      while (s >= parts[r].offset + parts[r].count) ++r;
-      rank[p] = r;
+      cost_s[p] = replies_[slot_[p]].cost_s;
+      rank[p] = owner_of(step_parts_, slot_[p]);
     }
     return true;
   }

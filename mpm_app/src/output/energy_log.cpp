@@ -9,17 +9,8 @@
 
 namespace mpmdem::mpm {
 
-EnergyLog::EnergyLog(const std::string& path) : path_(path), out_(path, std::ios::trunc) {
-  if (!out_) throw std::runtime_error("cannot write '" + path + "'");
-  out_ << kHeader << '\n';
-  out_.flush();
-}
-
 EnergyLog::EnergyLog(const std::string& path, std::int64_t last_step)
-    : path_(path), rows_(keep_rows_up_to_step(path, kHeader, last_step, 1)) {
-  out_.open(path, std::ios::app);
-  if (!out_) throw std::runtime_error("cannot append to '" + path + "'");
-}
+    : path_(path), out_(open_step_log(path, kHeader, last_step, 1, &rows_)) {}
 
 void EnergyLog::append(const EnergyRow& r) {
   const double E_d = r.E_p0 - r.E_p - r.E_k;

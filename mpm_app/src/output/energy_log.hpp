@@ -34,18 +34,18 @@ class EnergyLog {
   static constexpr const char* kHeader =
       "time,step,dt,E_p,E_k,E_d,E_strain,E_p0,E_k0,W_int,W_damp,W_bc,E_err";
 
-  explicit EnergyLog(const std::string& path);
-  // Continues the log of a resumed run: keeps the header and the rows up to `last_step`
-  // (rows the interrupted run wrote after its checkpoint are dropped), then appends.
-  EnergyLog(const std::string& path, std::int64_t last_step);
+  // A new log (last_step < 0), or the log of a resumed run: keeps the header and the rows up
+  // to `last_step` (rows the interrupted run wrote after its checkpoint are dropped), then
+  // appends.
+  explicit EnergyLog(const std::string& path, std::int64_t last_step = -1);
   // Appends one row. Throws std::runtime_error if a value is not finite (nothing written).
   void append(const EnergyRow& row);
   std::size_t rows() const { return rows_; }
 
  private:
   std::string path_;
+  std::size_t rows_ = 0;  // before out_: opening a resumed log sets it
   std::ofstream out_;
-  std::size_t rows_ = 0;
 };
 
 }  // namespace mpmdem::mpm

@@ -108,4 +108,29 @@ std::size_t keep_rows_up_to_step(const std::string& path, const std::string& hea
   return rows;
 }
 
+std::ofstream open_step_log(const std::string& path, const std::string& header,
+                            std::int64_t last_step, int step_column, std::size_t* kept_rows) {
+  if (last_step < 0) {
+    std::ofstream out(path, std::ios::trunc);
+    if (!out) throw std::runtime_error("cannot write '" + path + "'");
+    out << header << '\n';
+    out.flush();
+    if (kept_rows) *kept_rows = 0;
+    return out;
+  }
+  const std::size_t kept = keep_rows_up_to_step(path, header, last_step, step_column);
+  if (kept_rows) *kept_rows = kept;
+  std::ofstream out(path, std::ios::app);
+  if (!out) throw std::runtime_error("cannot append to '" + path + "'");
+  return out;
+}
+
+void write_buffer(std::ofstream& out, std::string& buffer, const std::string& path) {
+  if (buffer.empty()) return;
+  out << buffer;
+  out.flush();
+  if (!out) throw std::runtime_error("write to '" + path + "' failed (disk full?)");
+  buffer.clear();
+}
+
 }  // namespace mpmdem::mpm

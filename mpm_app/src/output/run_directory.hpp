@@ -3,7 +3,9 @@
 // file and an interrupted run never leaves a truncated summary or state.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <fstream>
 #include <stdexcept>
 #include <string>
 
@@ -37,6 +39,14 @@ void write_file_atomic(const std::string& path, const std::string& content);
 // the interrupted run wrote after its checkpoint). Returns the rows kept.
 std::size_t keep_rows_up_to_step(const std::string& path, const std::string& header,
                                  std::int64_t last_step, int step_column);
+// A step-indexed CSV log opened for appending: a new file holding `header` (last_step < 0),
+// or, for a resumed run, the file cut by keep_rows_up_to_step (rows kept in *kept_rows).
+// Throws naming the path if it cannot be written.
+std::ofstream open_step_log(const std::string& path, const std::string& header,
+                            std::int64_t last_step, int step_column,
+                            std::size_t* kept_rows = nullptr);
+// Appends `buffer` to `out` and clears it; throws naming `path` if the write failed.
+void write_buffer(std::ofstream& out, std::string& buffer, const std::string& path);
 // Renames `tmp_path` to `path` (same directory), throwing with both names on failure.
 void commit_file(const std::string& tmp_path, const std::string& path);
 

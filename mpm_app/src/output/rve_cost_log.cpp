@@ -16,34 +16,13 @@ std::string header(std::size_t n_points) {
   return h;
 }
 
-std::ofstream open(const std::string& path, const std::string& head, std::int64_t last_step) {
-  if (last_step < 0) {
-    std::ofstream out(path, std::ios::trunc);
-    if (!out) throw std::runtime_error("cannot write '" + path + "'");
-    out << head << '\n';
-    return out;
-  }
-  keep_rows_up_to_step(path, head, last_step, 0);
-  std::ofstream out(path, std::ios::app);
-  if (!out) throw std::runtime_error("cannot append to '" + path + "'");
-  return out;
-}
-
-void write(std::ofstream& out, std::string& buffer, const std::string& path) {
-  if (buffer.empty()) return;
-  out << buffer;
-  out.flush();
-  if (!out) throw std::runtime_error("write to '" + path + "' failed (disk full?)");
-  buffer.clear();
-}
-
 }  // namespace
 
 RveCostLog::RveCostLog(const std::string& dir, std::size_t n_points, std::int64_t last_step)
     : costs_path_(dir + "/rve_costs.csv"), ranks_path_(dir + "/rve_ranks.csv") {
   const std::string head = header(n_points);
-  costs_ = open(costs_path_, head, last_step);
-  ranks_ = open(ranks_path_, head, last_step);
+  costs_ = open_step_log(costs_path_, head, last_step, 0);
+  ranks_ = open_step_log(ranks_path_, head, last_step, 0);
 }
 
 RveCostLog::~RveCostLog() {
@@ -74,8 +53,8 @@ void RveCostLog::append(std::int64_t step, const std::vector<double>& cost_s,
 }
 
 void RveCostLog::flush() {
-  write(costs_, costs_buffer_, costs_path_);
-  write(ranks_, ranks_buffer_, ranks_path_);
+  write_buffer(costs_, costs_buffer_, costs_path_);
+  write_buffer(ranks_, ranks_buffer_, ranks_path_);
   pending_ = 0;
 }
 

@@ -8,16 +8,8 @@
 
 namespace mpmdem::mpm {
 
-TimingLog::TimingLog(const std::string& path) : path_(path), out_(path, std::ios::trunc) {
-  if (!out_) throw std::runtime_error("cannot write '" + path + "'");
-  out_ << kHeader << '\n';
-}
-
-TimingLog::TimingLog(const std::string& path, std::int64_t last_step) : path_(path) {
-  keep_rows_up_to_step(path, kHeader, last_step, 0);
-  out_.open(path, std::ios::app);
-  if (!out_) throw std::runtime_error("cannot append to '" + path + "'");
-}
+TimingLog::TimingLog(const std::string& path, std::int64_t last_step)
+    : path_(path), out_(open_step_log(path, kHeader, last_step, 0)) {}
 
 TimingLog::~TimingLog() {
   try {
@@ -45,11 +37,7 @@ void TimingLog::append(std::int64_t step, double time, const StepTiming& t) {
 }
 
 void TimingLog::flush() {
-  if (buffer_.empty()) return;
-  out_ << buffer_;
-  out_.flush();
-  if (!out_) throw std::runtime_error("write to '" + path_ + "' failed (disk full?)");
-  buffer_.clear();
+  write_buffer(out_, buffer_, path_);
   pending_ = 0;
 }
 

@@ -21,9 +21,9 @@ class TimingLog {
  public:
   static constexpr const char* kHeader =
       "step,time,p2g,grid,g2p_dF,stress,exchange,dem_max,dem_mean,comm";
-  explicit TimingLog(const std::string& path);
-  // A resumed run: keeps the rows up to `last_step`, then appends.
-  TimingLog(const std::string& path, std::int64_t last_step);
+  // A new log (last_step < 0), or a resumed run's: keeps the rows up to `last_step`, then
+  // appends.
+  explicit TimingLog(const std::string& path, std::int64_t last_step = -1);
   ~TimingLog();
   TimingLog(const TimingLog&) = delete;
   TimingLog& operator=(const TimingLog&) = delete;

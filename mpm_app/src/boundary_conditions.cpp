@@ -6,6 +6,18 @@
 
 namespace mpmdem::mpm {
 
+bool clamped_face(const Scene& scene, int f) {
+  return scene.solver.shape == ShapeKind::kQuadraticBSpline &&
+         scene.walls[static_cast<std::size_t>(f)].type != WallType::kFree;
+}
+
+void set_shape_axes(const Scene& scene, Grid& grid) {
+  for (std::size_t d = 0; d < 3; ++d) {
+    grid.axes[d].clamp_lo = clamped_face(scene, static_cast<int>(2 * d));
+    grid.axes[d].clamp_hi = clamped_face(scene, static_cast<int>(2 * d + 1));
+  }
+}
+
 BoundaryConditions::BoundaryConditions(const Scene& scene, const Grid& grid) {
   for (int f = 0; f < 6; ++f) {
     const WallParams& w = scene.walls[static_cast<std::size_t>(f)];
@@ -16,15 +28,14 @@ BoundaryConditions::BoundaryConditions(const Scene& scene, const Grid& grid) {
     face.axis = f / 2;
     face.outward = f % 2 == 0 ? -1.0 : 1.0;
     const int n = grid.cells[static_cast<std::size_t>(face.axis)];
+    const bool clamped = clamped_face(scene, f);
     for (std::size_t i = 0; i < grid.size(); ++i) {
       const int k = grid.lattice(i)[static_cast<std::size_t>(face.axis)];
-      if (face.outward < 0.0 ? k <= 0 : k >= n) face.nodes.push_back(i);
       const bool ghost = face.outward < 0.0 ? k == -1 : k == n + 1;
-      if (ghost && n >= 2) {
-        auto l = grid.lattice(i);
-        l[static_cast<std::size_t>(face.axis)] = face.outward < 0.0 ? 1 : n - 1;
-        face.mirrors.emplace_back(i, grid.index(l[0], l[1], l[2]));
-      }
+      const bool behind = face.outward < 0.0 ? k <= 0 : k >= n;
+      // A single cell between two clamped walls is a plane-strain slice: its two interior
+      // functions would be controlled by one point across, so the wall holds them too.
+      if (clamped && n > 1 ? ghost : behind) face.nodes.push_back(i);
     }
     faces_.push_back(std::move(face));
   }
@@ -49,14 +60,9 @@ void BoundaryConditions::apply(std::vector<Vec3>& v_i) const {
     switch (face.type) {
       case WallType::kFixed:
         for (std::size_t i : face.nodes) v_i[i].setZero();
-        for (const auto& [ghost, mirror] : face.mirrors) v_i[ghost] = -v_i[mirror];
         break;
       case WallType::kSlip:
         for (std::size_t i : face.nodes) v_i[i][a] = 0.0;
-        for (const auto& [ghost, mirror] : face.mirrors) {
-          v_i[ghost] = v_i[mirror];
-          v_i[ghost][a] = -v_i[mirror][a];
-        }
         break;
       case WallType::kFriction:
         for (std::size_t i : face.nodes) {

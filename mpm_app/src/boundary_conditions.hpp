@@ -8,11 +8,10 @@
 //            normal component v_n and its tangential speed is reduced by mu v_n, never
 //            reversed; a node moving away is free;
 //   free     nothing.
-// The ghost layer behind a fixed or slip wall mirrors the first interior layer (fixed:
-// v_ghost = -v_mirror; slip: tangential components copied, normal one reversed), so that the
-// velocity field a quadratic B-spline stencil sees across the wall is the reflected one and
-// the velocity gradient next to the wall is that of the interior. (Linear stencils never
-// reach the ghost layer.)
+// With quadratic B-splines the splines are clamped at every wall (shape_functions.hpp): only
+// the ghost slot's function is non-zero on the wall, so the wall acts on the ghost layer alone
+// and the boundary node's slot (centred h/4 inside) stays free. (Linear stencils never reach
+// the ghost layer.)
 // Faces are applied in the order x_min, x_max, y_min, y_max, z_min, z_max, then the active
 // velocity constraints (their held components are set to the value).
 #pragma once
@@ -26,6 +25,12 @@
 #include "scene.hpp"
 
 namespace mpmdem::mpm {
+
+// Are the quadratic B-splines clamped at face f (x_min, x_max, y_min, ...)? At every wall when
+// the scene uses them.
+bool clamped_face(const Scene& scene, int f);
+// Sets grid.axes' clamps from the scene's walls and shape functions.
+void set_shape_axes(const Scene& scene, Grid& grid);
 
 class BoundaryConditions {
  public:
@@ -54,8 +59,7 @@ class BoundaryConditions {
     double mu = 0.0;
     int axis = 0;
     double outward = 1.0;            // -1 on a min face, +1 on a max face
-    std::vector<std::size_t> nodes;  // boundary plane and ghost layer behind it
-    std::vector<std::pair<std::size_t, std::size_t>> mirrors;  // (ghost, interior mirror)
+    std::vector<std::size_t> nodes;  // boundary plane and ghost layer (linear), ghosts (clamped)
   };
   struct Constraint {
     VelocityConstraintParams params;

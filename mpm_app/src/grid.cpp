@@ -16,6 +16,7 @@ Grid::Grid(const GridParams& params) : origin(params.origin), h(params.cell_size
     const double n = params.extent[d] * inv_h;
     cells[d] = std::max(1, static_cast<int>(std::ceil(n - 1e-9)));
     nodes[d] = cells[d] + 1 + 2 * kGhost;
+    axes[static_cast<std::size_t>(d)].cells = cells[d];
   }
   const std::size_t n = static_cast<std::size_t>(nodes[0]) * static_cast<std::size_t>(nodes[1]) *
                         static_cast<std::size_t>(nodes[2]);

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "scene.hpp"
+#include "shape_functions.hpp"
 
 namespace mpmdem::mpm {
 
@@ -30,6 +31,9 @@ struct Grid {
   // Nodes with m_i <= mass_floor are empty (v_i = 0). The solver sets a tiny fraction of the
   // smallest point mass, so that round-off masses never divide a force.
   double mass_floor = 0.0;
+  // The axes as the shape functions see them (cells, clamped quadratic B-splines at walls:
+  // the solver sets the clamps from the scene's walls).
+  std::array<ShapeAxis, 3> axes{};
 
   // Node fields (index(i, j, k)).
   std::vector<double> m_i;  // mass [kg]

@@ -19,6 +19,7 @@ struct Particles {
   std::vector<Vec3> x;                // position [m]
   std::vector<Vec3> x0;               // initial position [m]
   std::vector<Vec3> v;                // velocity [m/s]
+  std::vector<Mat3> C;                // APIC affine velocity matrix C_p = B_p D_p^-1 [1/s]
   std::vector<Mat3> F;                // deformation gradient
   std::vector<Mat3> dF;               // incremental deformation gradient of the last step
   std::vector<Mat3> sigma;            // Cauchy stress, tension positive [Pa]

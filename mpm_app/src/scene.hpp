@@ -71,12 +71,16 @@ struct VelocityConstraintParams {
 
 enum class Scheme { kUSL, kMUSL };
 enum class ShapeKind { kLinear, kQuadraticBSpline };
+// Particle <-> grid velocity transfer: APIC (affine particle-in-cell, Jiang et al. 2015) or the
+// PIC/FLIP blend.
+enum class Transfer { kAPIC, kPicFlip };
 enum class OnExit { kError, kRemove };
 
 struct SolverParams {
   Scheme scheme = Scheme::kMUSL;
   ShapeKind shape = ShapeKind::kLinear;
-  double flip = 0.99;     // FLIP fraction of the PIC/FLIP blend (1 = pure FLIP)
+  Transfer transfer = Transfer::kPicFlip;  // kAPIC needs shape kQuadraticBSpline
+  double flip = 0.99;     // FLIP fraction of the PIC/FLIP blend (1 = pure FLIP; pic_flip only)
   double cfl = 0.5;       // Courant number
   double dt_max = 1e-3;   // cap on the automatic step [s]
   double dt_fixed = 0.0;  // > 0: this step in place of the automatic one [s] (stability studies)

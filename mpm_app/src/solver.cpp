@@ -76,12 +76,17 @@ Solver::Solver(const Scene& scene, Particles particles,
       grid_(scene.grid),
       bc_(scene, grid_) {
   if (!provider_) throw std::invalid_argument("Solver: no constitutive provider");
+  set_shape_axes(scene_, grid_);
+  if (scene_.solver.transfer == Transfer::kAPIC && scene_.solver.shape == ShapeKind::kLinear) {
+    throw std::invalid_argument("Solver: APIC needs quadratic B-splines (solver.shape bspline2)");
+  }
   const std::size_t n = p_.size();
   fill_if_empty(p_.id, n, std::int64_t{0});
   fill_if_empty(p_.region, n, 0);
   fill_if_empty(p_.V, n, 0.0);
   fill_if_empty(p_.x, n, Vec3(Vec3::Zero()));
   fill_if_empty(p_.v, n, Vec3(Vec3::Zero()));
+  fill_if_empty(p_.C, n, Mat3(Mat3::Zero()));
   if (p_.V0.empty()) p_.V0 = p_.V;
   if (p_.x0.empty()) p_.x0 = p_.x;
   fill_if_empty(p_.V0, n, 0.0);
@@ -142,6 +147,7 @@ Solver::Solver(const Scene& scene, SolverState state,
       grid_(scene.grid),
       bc_(scene, grid_) {
   if (!provider_) throw std::invalid_argument("Solver: no constitutive provider");
+  set_shape_axes(scene_, grid_);
   if (state.slot.size() != p_.size() || state.constraint_active.size() != bc_.constraint_count()) {
     throw std::invalid_argument(
         "Solver: the saved state does not match the scene (" + std::to_string(p_.size()) +
@@ -211,6 +217,18 @@ bool Solver::finished() const {
   return time_ >= end - 1e-12 * std::abs(end);
 }
 
+Vec3 Solver::angular_momentum() const {
+  const Transfer t = scene_.solver.transfer;
+  if (scene_.solver.shape == ShapeKind::kQuadraticBSpline) {
+    Stencils<QuadraticBSplineShape::kWidth> s;
+    compute_stencils<QuadraticBSplineShape>(grid_, p_.x, s);
+    return mpm::angular_momentum(p_, s, grid_, t);
+  }
+  Stencils<LinearShape::kWidth> s;
+  compute_stencils<LinearShape>(grid_, p_.x, s);
+  return mpm::angular_momentum(p_, s, grid_, t);
+}
+
 Energies Solver::energies() const {
   return compute_energies(p_, scene_.solver.gravity);
 }
@@ -244,7 +262,7 @@ void Solver::step_with(Stencils<Shape::kWidth>& stencils, double dt) {
   // Shape functions at x_p^n, used by every transfer of this step.
   compute_stencils<Shape>(grid_, p_.x, stencils);
   // Project mass, momentum and internal force to the grid.
-  p2g(p_, stencils, grid_, buffers_);
+  p2g(p_, stencils, grid_, sp.transfer, buffers_);
   const auto t1 = Clock::now();
   // Integrate the grid momentum; enforce walls and velocity constraints.
   EnergyBudget step_work;  // W_damp, W_bc of this step
@@ -254,9 +272,9 @@ void Solver::step_with(Stencils<Shape::kWidth>& stencils, double dt) {
   bc_.apply(grid_.v_i);
   grid_work_.after_bc(grid_, dt, step_work);
   const auto t2 = Clock::now();
-  // Update point velocities (PIC/FLIP) and positions; MUSL re-projects the new momentum.
+  // Update point velocities (APIC or PIC/FLIP) and positions; MUSL re-projects the momentum.
   const bool musl = sp.scheme == Scheme::kMUSL;
-  g2p(p_, stencils, grid_, sp.flip, dt, musl, buffers_);
+  g2p(p_, stencils, grid_, sp.transfer, sp.flip, dt, musl, buffers_);
   if (musl) {
     grid_velocity_from_momentum(grid_);
     bc_.apply(grid_.v_i);
@@ -431,6 +449,7 @@ void Solver::remove_points(const std::vector<char>& keep) {
   compact(p_.x, keep);
   compact(p_.x0, keep);
   compact(p_.v, keep);
+  compact(p_.C, keep);
   compact(p_.F, keep);
   compact(p_.dF, keep);
   compact(p_.sigma, keep);

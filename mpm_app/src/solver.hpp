@@ -5,7 +5,9 @@
 //   1 P2G      m_i = sum N_ip m_p,  mv_i = sum N_ip m_p v_p,  f_i = -sum V_p sigma_p grad N_ip
 //   2 Grid     v0_i = mv_i / m_i;  f_i += m_i g;  local damping f_i -= alpha |f_i| sign(v0_i);
 //              v_i = v0_i + dt f_i / m_i;  walls and active velocity constraints on v_i.
-//   3 G2P      v_p = flip (v_p + sum N (v_i - v0_i)) + (1 - flip) sum N v_i
+//   3 G2P      APIC (default): v_p = sum N v_i, C_p = sum v_i (D_p^-1 N_ip (x_i - x_p))^T
+//              (P2G then carries mv_i = sum N m_p (v_p + C_p (x_i - x_p)));
+//              PIC/FLIP: v_p = flip (v_p + sum N (v_i - v0_i)) + (1 - flip) sum N v_i;
 //              x_p += dt sum N v_i
 //   4 Velocity gradient
 //       MUSL (default): mv_i = sum N m_p v_p (re-projected), v_i = mv_i / m_i, BCs again,
@@ -111,6 +113,9 @@ class Solver {
   const BoundaryConditions& boundary_conditions() const { return bc_; }
 
   Energies energies() const;
+  // Angular momentum of the points about the origin, affine part included (APIC): what the
+  // next P2G puts on the grid (transfers.hpp).
+  Vec3 angular_momentum() const;
   double initial_potential_energy() const { return E_p0_; }
   // E_k0 and the work terms accumulated up to now (energy_budget.hpp).
   const EnergyBudget& energy_budget() const { return budget_; }

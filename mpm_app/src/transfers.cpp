@@ -3,6 +3,7 @@
 
 #include <omp.h>
 
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 
 #include <algorithm>
@@ -29,6 +30,31 @@ inline void for_each_node(const Grid& g, const Stencil<W>& s, Fn&& fn) {
       for (int a = 0; a < W; ++a) {
         const Vec3 grad(s.dw[0][a] * wyz, s.w[0][a] * dyz, s.w[0][a] * ydz);
         fn(row + static_cast<std::size_t>(a), s.w[0][a] * wyz, grad);
+      }
+    }
+  }
+}
+
+// As above, for APIC: fn(node, N_ip, grad N_ip, x_i - x_p, D_p^-1 N_ip (x_i - x_p)).
+template <int W, class Fn>
+inline void for_each_node_affine(const Grid& g, const Stencil<W>& s, Fn&& fn) {
+  const std::size_t sy = static_cast<std::size_t>(g.nodes[0]);
+  const std::size_t sz = sy * static_cast<std::size_t>(g.nodes[1]);
+  const std::size_t first = g.index(s.base[0], s.base[1], s.base[2]);
+  for (int c = 0; c < W; ++c) {
+    for (int b = 0; b < W; ++b) {
+      const std::size_t row =
+          first + static_cast<std::size_t>(b) * sy + static_cast<std::size_t>(c) * sz;
+      const double wyz = s.w[1][b] * s.w[2][c];
+      const double dyz = s.dw[1][b] * s.w[2][c];
+      const double ydz = s.w[1][b] * s.dw[2][c];
+      const double gyz = s.ga[1][b] * s.w[2][c];
+      const double ygz = s.w[1][b] * s.ga[2][c];
+      for (int a = 0; a < W; ++a) {
+        const Vec3 grad(s.dw[0][a] * wyz, s.w[0][a] * dyz, s.w[0][a] * ydz);
+        const Vec3 dx(s.dx[0][a], s.dx[1][b], s.dx[2][c]);
+        const Vec3 g_aff(s.ga[0][a] * wyz, s.w[0][a] * gyz, s.w[0][a] * ygz);
+        fn(row + static_cast<std::size_t>(a), s.w[0][a] * wyz, grad, dx, g_aff);
       }
     }
   }
@@ -65,7 +91,7 @@ void compute_stencils(const Grid& grid, const std::vector<Vec3>& x_p, Stencils<S
 #pragma omp parallel for schedule(static) if (n > kParallelMin)
   for (std::ptrdiff_t p = 0; p < n; ++p) {
     assert(grid.contains(x_p[p]));
-    s[p] = make_stencil<Shape>(x_p[p], grid.origin, grid.inv_h);
+    s[p] = make_stencil<Shape>(x_p[p], grid.origin, grid.inv_h, grid.axes);
     assert(s[p].base[0] >= -Grid::kGhost && s[p].base[1] >= -Grid::kGhost &&
            s[p].base[2] >= -Grid::kGhost);
     assert(s[p].base[0] + Shape::kWidth <= grid.cells[0] + Grid::kGhost + 1 &&
@@ -75,7 +101,8 @@ void compute_stencils(const Grid& grid, const std::vector<Vec3>& x_p, Stencils<S
 }
 
 template <int W>
-void p2g(const Particles& p, const Stencils<W>& s, Grid& grid, ScatterBuffers& buf) {
+void p2g(const Particles& p, const Stencils<W>& s, Grid& grid, Transfer transfer,
+         ScatterBuffers& buf) {
   const int threads = omp_get_max_threads();
   buf.resize(grid.size(), threads);
   const auto n = static_cast<std::ptrdiff_t>(p.size());
@@ -95,11 +122,23 @@ void p2g(const Particles& p, const Stencils<W>& s, Grid& grid, ScatterBuffers& b
       const double m_p = p.m[q];
       const Vec3 mv_p = m_p * p.v[q];
       const Mat3 Vsigma = p.V[q] * p.sigma[q];
-      for_each_node(grid, s[q], [&](std::size_t i, double N, const Vec3& gradN) {
-        m_i[i] += N * m_p;
-        mv_i[i] += N * mv_p;
-        f_i[i] -= Vsigma * gradN;
-      });
+      if (transfer == Transfer::kAPIC) {
+        // APIC: mv_i = sum_p N_ip m_p (v_p + C_p (x_i - x_p)).
+        const Mat3 mC_p = m_p * p.C[q];
+        for_each_node_affine(
+            grid, s[q],
+            [&](std::size_t i, double N, const Vec3& gradN, const Vec3& dx, const Vec3&) {
+              m_i[i] += N * m_p;
+              mv_i[i] += N * (mv_p + mC_p * dx);
+              f_i[i] -= Vsigma * gradN;
+            });
+      } else {
+        for_each_node(grid, s[q], [&](std::size_t i, double N, const Vec3& gradN) {
+          m_i[i] += N * m_p;
+          mv_i[i] += N * mv_p;
+          f_i[i] -= Vsigma * gradN;
+        });
+      }
     }
     if (used > 1) {
       reduce_into(grid.m_i, buf.m, used);
@@ -135,8 +174,8 @@ void grid_update(Grid& grid, const Vec3& gravity, double damping, double dt) {
 }
 
 template <int W>
-void g2p(Particles& p, const Stencils<W>& s, Grid& grid, double flip, double dt, bool reproject,
-         ScatterBuffers& buf) {
+void g2p(Particles& p, const Stencils<W>& s, Grid& grid, Transfer transfer, double flip, double dt,
+         bool reproject, ScatterBuffers& buf) {
   const int threads = omp_get_max_threads();
   if (reproject) buf.resize(grid.size(), threads);
   const auto n = static_cast<std::ptrdiff_t>(p.size());
@@ -149,17 +188,39 @@ void g2p(Particles& p, const Stencils<W>& s, Grid& grid, double flip, double dt,
       // Interpolate the new velocity and its increment back to the points; move them.
 #pragma omp for schedule(static)
     for (std::ptrdiff_t q = 0; q < n; ++q) {
-      Vec3 v_pic = Vec3::Zero(), dv = Vec3::Zero();
-      for_each_node(grid, s[q], [&](std::size_t i, double N, const Vec3&) {
-        v_pic += N * grid.v_i[i];
-        dv += N * (grid.v_i[i] - grid.v0_i[i]);
-      });
-      p.v[q] = flip * (p.v[q] + dv) + (1.0 - flip) * v_pic;
+      Vec3 v_pic = Vec3::Zero();
+      if (transfer == Transfer::kAPIC) {
+        // APIC: v_p = sum_i N_ip v_i,  C_p = sum_i v_i (D_p^-1 N_ip (x_i - x_p))^T.
+        Mat3 C = Mat3::Zero();
+        for_each_node_affine(grid, s[q],
+                             [&](std::size_t i, double N, const Vec3&, const Vec3&, const Vec3& g) {
+                               v_pic += N * grid.v_i[i];
+                               C += grid.v_i[i] * g.transpose();
+                             });
+        p.v[q] = v_pic;
+        p.C[q] = C;
+      } else {
+        Vec3 dv = Vec3::Zero();
+        for_each_node(grid, s[q], [&](std::size_t i, double N, const Vec3&) {
+          v_pic += N * grid.v_i[i];
+          dv += N * (grid.v_i[i] - grid.v0_i[i]);
+        });
+        p.v[q] = flip * (p.v[q] + dv) + (1.0 - flip) * v_pic;
+      }
       p.x[q] += dt * v_pic;
       if (reproject) {
+        // MUSL: the new point momenta back on the grid (same stencils, same transfer).
         const Vec3 mv_p = p.m[q] * p.v[q];
-        for_each_node(grid, s[q],
-                      [&](std::size_t i, double N, const Vec3&) { mv_i[i] += N * mv_p; });
+        if (transfer == Transfer::kAPIC) {
+          const Mat3 mC_p = p.m[q] * p.C[q];
+          for_each_node_affine(
+              grid, s[q], [&](std::size_t i, double N, const Vec3&, const Vec3& dx, const Vec3&) {
+                mv_i[i] += N * (mv_p + mC_p * dx);
+              });
+        } else {
+          for_each_node(grid, s[q],
+                        [&](std::size_t i, double N, const Vec3&) { mv_i[i] += N * mv_p; });
+        }
       }
     }
     if (reproject && used > 1) reduce_into(grid.mv_i, buf.mv, used);
@@ -209,14 +270,35 @@ std::size_t update_deformation(Particles& p, const Stencils<W>& s, const Grid& g
   return bad;
 }
 
+template <int W>
+Vec3 angular_momentum(const Particles& p, const Stencils<W>& s, const Grid& grid,
+                      Transfer transfer) {
+  Vec3 L = Vec3::Zero();
+  for (std::size_t q = 0; q < p.size(); ++q) {
+    L += p.m[q] * p.x[q].cross(p.v[q]);
+    if (transfer != Transfer::kAPIC) continue;
+    // sum_i N_ip (x_i - x_p) x m_p C_p (x_i - x_p): what the affine field adds on the grid.
+    const Mat3 mC_p = p.m[q] * p.C[q];
+    for_each_node_affine(grid, s[q],
+                         [&](std::size_t, double N, const Vec3&, const Vec3& dx, const Vec3&) {
+                           L += N * dx.cross(mC_p * dx);
+                         });
+  }
+  return L;
+}
+
 // The two shape functions.
 template void compute_stencils<LinearShape>(const Grid&, const std::vector<Vec3>&, Stencils<2>&);
 template void compute_stencils<QuadraticBSplineShape>(const Grid&, const std::vector<Vec3>&,
                                                       Stencils<3>&);
-template void p2g<2>(const Particles&, const Stencils<2>&, Grid&, ScatterBuffers&);
-template void p2g<3>(const Particles&, const Stencils<3>&, Grid&, ScatterBuffers&);
-template void g2p<2>(Particles&, const Stencils<2>&, Grid&, double, double, bool, ScatterBuffers&);
-template void g2p<3>(Particles&, const Stencils<3>&, Grid&, double, double, bool, ScatterBuffers&);
+template void p2g<2>(const Particles&, const Stencils<2>&, Grid&, Transfer, ScatterBuffers&);
+template void p2g<3>(const Particles&, const Stencils<3>&, Grid&, Transfer, ScatterBuffers&);
+template void g2p<2>(Particles&, const Stencils<2>&, Grid&, Transfer, double, double, bool,
+                     ScatterBuffers&);
+template void g2p<3>(Particles&, const Stencils<3>&, Grid&, Transfer, double, double, bool,
+                     ScatterBuffers&);
+template Vec3 angular_momentum<2>(const Particles&, const Stencils<2>&, const Grid&, Transfer);
+template Vec3 angular_momentum<3>(const Particles&, const Stencils<3>&, const Grid&, Transfer);
 template std::size_t update_deformation<2>(Particles&, const Stencils<2>&, const Grid&, double);
 template std::size_t update_deformation<3>(Particles&, const Stencils<3>&, const Grid&, double);
 

@@ -32,19 +32,32 @@ using Stencils = std::vector<Stencil<W>>;
 template <class Shape>
 void compute_stencils(const Grid& grid, const std::vector<Vec3>& x_p, Stencils<Shape::kWidth>& s);
 
-// P2G: m_i = sum_p N_ip m_p,  mv_i = sum_p N_ip m_p v_p,  f_i = -sum_p V_p sigma_p grad N_ip.
+// P2G: m_i = sum_p N_ip m_p,  f_i = -sum_p V_p sigma_p grad N_ip,
+//   APIC:     mv_i = sum_p N_ip m_p (v_p + C_p (x_i - x_p)),
+//   PIC/FLIP: mv_i = sum_p N_ip m_p v_p.
 template <int W>
-void p2g(const Particles& p, const Stencils<W>& s, Grid& grid, ScatterBuffers& buf);
+void p2g(const Particles& p, const Stencils<W>& s, Grid& grid, Transfer transfer,
+         ScatterBuffers& buf);
 
 // Grid update on nodes with mass: v0_i = mv_i / m_i; f_i += m_i g; local (Cundall) damping
 // f_i -= alpha |f_i| sign(v0_i) per component; v_i = v0_i + dt f_i / m_i. Empty nodes: 0.
 void grid_update(Grid& grid, const Vec3& gravity, double damping, double dt);
 
-// G2P with a PIC/FLIP blend, then (reproject = MUSL) mv_i = sum_p N_ip m_p v_p^{n+1}:
-//   v_p = flip (v_p + sum N (v_i - v0_i)) + (1 - flip) sum N v_i,   x_p += dt sum N v_i.
+// G2P, x_p += dt sum N v_i, then (reproject = MUSL) the new momenta back to the grid with the
+// same transfer (and the stencils of x_p^n):
+//   APIC:     v_p = sum N v_i,  C_p = sum_i v_i (D_p^-1 N_ip (x_i - x_p))^T  (Jiang et al. 2015;
+//             conserves angular momentum, and its dissipation does not grow with the step count
+//             the way the PIC share of a blend does);
+//   PIC/FLIP: v_p = flip (v_p + sum N (v_i - v0_i)) + (1 - flip) sum N v_i.
 template <int W>
-void g2p(Particles& p, const Stencils<W>& s, Grid& grid, double flip, double dt, bool reproject,
-         ScatterBuffers& buf);
+void g2p(Particles& p, const Stencils<W>& s, Grid& grid, Transfer transfer, double flip, double dt,
+         bool reproject, ScatterBuffers& buf);
+
+// Angular momentum about the origin of the points, as the next P2G puts it on the grid:
+// sum_p m_p x_p x v_p, plus with APIC sum_p sum_i N_ip (x_i - x_p) x m_p C_p (x_i - x_p).
+template <int W>
+Vec3 angular_momentum(const Particles& p, const Stencils<W>& s, const Grid& grid,
+                      Transfer transfer);
 
 // MUSL: v_i = mv_i / m_i from the re-projected momentum (0 on empty nodes).
 void grid_velocity_from_momentum(Grid& grid);

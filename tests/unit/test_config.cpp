@@ -43,7 +43,7 @@ TEST(ConfigValidation, UnknownNestedKeyWithoutCloseMatchListsKnownKeys) {
   const std::string msg =
       scene_error(replaced(kMinimal, "  end_time: 0.1\n", "  end_time: 0.1\n  zzzzzz: 1\n"));
   EXPECT_CONTAINS(msg, std::string("unknown key 'solver.zzzzzz'"));
-  EXPECT_CONTAINS(msg, std::string("known keys here: scheme, shape, flip, cfl"));
+  EXPECT_CONTAINS(msg, std::string("known keys here: scheme, shape, transfer, flip, cfl"));
   EXPECT_CONTAINS(msg, std::string("line 11"));
 }
 
@@ -183,6 +183,7 @@ TEST(ConfigDefaults, AppliedWhereAbsentAndOverriddenWhereGiven) {
   EXPECT_TRUE(s.constraints.empty());
   EXPECT_EQ(s.solver.scheme, mpmdem::mpm::Scheme::kMUSL);
   EXPECT_EQ(s.solver.shape, mpmdem::mpm::ShapeKind::kLinear);
+  EXPECT_EQ(s.solver.transfer, mpmdem::mpm::Transfer::kPicFlip);
   EXPECT_DOUBLE_EQ(s.solver.flip, 0.99);
   EXPECT_DOUBLE_EQ(s.solver.cfl, 0.5);
   EXPECT_DOUBLE_EQ(s.solver.dt_max, 1e-3);
@@ -364,4 +365,19 @@ TEST(ConfigCrossChecks, WallsAndModels) {
                           "  model: linear_elastic\n")),
       std::string(
           "constitutive.model is linear_elastic but the section constitutive.linear_elastic"));
+}
+
+TEST(ConfigCrossChecks, ApicNeedsBSplinesAndNoFlip) {
+  const std::string linear = load_error(
+      "apic.yaml", replaced(kMinimal, "  end_time: 0.1\n", "  end_time: 0.1\n  transfer: apic\n"));
+  EXPECT_CONTAINS(linear, std::string("solver.transfer"));
+  EXPECT_CONTAINS(linear, std::string("apic needs solver.shape: bspline2"));
+  EXPECT_CONTAINS(linear, std::string("apic.yaml line 11"));
+  const std::string flip =
+      load_error("apic_flip.yaml", replaced(kMinimal, "  end_time: 0.1\n",
+                                            "  end_time: 0.1\n  transfer: apic\n  shape: "
+                                            "bspline2\n  flip: 0.99\n"));
+  EXPECT_CONTAINS(flip, std::string("solver.flip"));
+  EXPECT_CONTAINS(flip, std::string("applies only to solver.transfer: pic_flip"));
+  EXPECT_CONTAINS(flip, std::string("apic_flip.yaml line 13"));
 }

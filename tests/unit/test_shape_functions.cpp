@@ -94,3 +94,56 @@ TEST(ShapeFunctions, InterpolatingAtNodesAndBSplineValues) {
   EXPECT_DOUBLE_EQ(w[1], 0.5);
   EXPECT_DOUBLE_EQ(w[2], 0.0);
 }
+
+// Quadratic B-splines clamped at walls (boundary-modified): on an axis of n cells with walls at
+// both ends they sum to 1, reproduce linear fields with the Greville abscissae, have
+// derivatives consistent with the weights, and only the ghost slot's function is non-zero on a
+// wall.
+TEST(ShapeFunctions, ClampedQuadraticBSplinesAtWalls) {
+  for (int n : {1, 2, 3, 6}) {
+    ShapeAxis ax;
+    ax.cells = n;
+    ax.clamp_lo = ax.clamp_hi = true;
+    for (double xi = 0.0; xi <= n; xi += 0.01 * n) {
+      int base = 0;
+      double w[3], dw[3], xn[3];
+      QuadraticBSplineShape::weights(xi, ax, base, w, dw, xn);
+      double sum = 0.0, sum_x = 0.0, sum_d = 0.0, sum_dx = 0.0;
+      for (int a = 0; a < 3; ++a) {
+        EXPECT_GE(w[a], 0.0);
+        EXPECT_GE(base + a, -1);
+        EXPECT_LE(base + a, n + 1);
+        sum += w[a];
+        sum_x += w[a] * xn[a];
+        sum_d += dw[a];
+        sum_dx += dw[a] * xn[a];
+      }
+      ASSERT_NEAR(sum, 1.0, 1e-13) << "n " << n << " xi " << xi;
+      ASSERT_NEAR(sum_x, xi, 1e-12) << "n " << n << " xi " << xi;
+      ASSERT_NEAR(sum_d, 0.0, 1e-12) << "n " << n << " xi " << xi;
+      ASSERT_NEAR(sum_dx, 1.0, 1e-12) << "n " << n << " xi " << xi;
+      // Derivative against a central difference (inside a span).
+      const double e = 1e-7;
+      if (xi > e && xi < n - e) {
+        int bp = 0, bm = 0;
+        double wp[3], wm[3], d[3], x2[3];
+        QuadraticBSplineShape::weights(xi + e, ax, bp, wp, d, x2);
+        QuadraticBSplineShape::weights(xi - e, ax, bm, wm, d, x2);
+        if (bp == base && bm == base) {
+          for (int a = 0; a < 3; ++a) EXPECT_NEAR(dw[a], (wp[a] - wm[a]) / (2 * e), 1e-5);
+        }
+      }
+    }
+    // On a wall only the ghost slot carries weight.
+    int base = 0;
+    double w[3], dw[3], xn[3];
+    QuadraticBSplineShape::weights(0.0, ax, base, w, dw, xn);
+    EXPECT_EQ(base, -1);
+    EXPECT_DOUBLE_EQ(w[0], 1.0);
+    EXPECT_DOUBLE_EQ(xn[0], 0.0);
+    QuadraticBSplineShape::weights(n, ax, base, w, dw, xn);
+    EXPECT_EQ(base + 2, n + 1);
+    EXPECT_NEAR(w[2], 1.0, 1e-12);
+    EXPECT_DOUBLE_EQ(xn[2], n);
+  }
+}

@@ -188,6 +188,19 @@ SolverParams load_solver(const Config& cfg) {
   s.scheme = cfg.string("solver.scheme") == "usl" ? Scheme::kUSL : Scheme::kMUSL;
   s.shape =
       cfg.string("solver.shape") == "bspline2" ? ShapeKind::kQuadraticBSpline : ShapeKind::kLinear;
+  s.transfer = cfg.string("solver.transfer") == "pic_flip" ? Transfer::kPicFlip : Transfer::kAPIC;
+  if (s.transfer == Transfer::kAPIC && cfg.has("solver.flip")) {
+    cfg.fail("solver.flip",
+             "applies only to solver.transfer: pic_flip (the transfer is apic); remove it or set "
+             "transfer: pic_flip");
+  }
+  if (s.transfer == Transfer::kAPIC && s.shape == ShapeKind::kLinear) {
+    cfg.fail("solver.transfer",
+             "apic needs solver.shape: bspline2; with trilinear shapes APIC's D_p is singular on "
+             "node planes and the affine velocities grow without bound as points cross cells (a "
+             "stress-free translating block blows up within 100 steps). Set shape: bspline2, or "
+             "transfer: pic_flip");
+  }
   s.flip = cfg.number("solver.flip");
   s.cfl = cfg.number("solver.cfl");
   s.dt_max = cfg.number("solver.dt_max");

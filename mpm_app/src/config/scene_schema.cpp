@@ -117,10 +117,18 @@ void add_solver_keys(config::Schema& s) {
             .one_of({"usl", "musl"}));
   s.add(key("solver.shape", Type::kEnum, "",
             "shape functions: linear (trilinear, 8 nodes) or bspline2 (quadratic B-spline, "
-            "27 nodes)")
+            "27 nodes, clamped at walls)")
             .def("linear")
             .one_of({"linear", "bspline2"}));
-  s.add(key("solver.flip", Type::kDouble, "-", "FLIP fraction of the PIC/FLIP blend (1: pure FLIP)")
+  s.add(key("solver.transfer", Type::kEnum, "",
+            "particle-grid velocity transfer: apic (affine PIC, Jiang et al. 2015: conserves "
+            "angular momentum, dissipation independent of the step count; needs shape "
+            "bspline2) or pic_flip (the blend set by solver.flip; its PIC share damps every "
+            "step)")
+            .def("pic_flip")
+            .one_of({"apic", "pic_flip"}));
+  s.add(key("solver.flip", Type::kDouble, "-",
+            "FLIP fraction of the PIC/FLIP blend (1: pure FLIP); only with transfer pic_flip")
             .def("0.99")
             .ge(0)
             .le(1));

@@ -71,6 +71,7 @@ void write_mpm_checkpoint(const std::string& dir, const SolverState& s, const Dr
     f.write("x", h5::flatten(p.x), {n, 3});
     f.write("x0", h5::flatten(p.x0), {n, 3});
     f.write("v", h5::flatten(p.v), {n, 3});
+    f.write("C", h5::flatten(p.C), {n, 3, 3});
     f.write("F", h5::flatten(p.F), {n, 3, 3});
     f.write("dF", h5::flatten(p.dF), {n, 3, 3});
     f.write("sigma", h5::flatten(p.sigma), {n, 3, 3});
@@ -156,6 +157,12 @@ void read_mpm_checkpoint(const std::string& dir, SolverState& s, DriverState& d)
   p.x = h5::unflatten<3, 1>(f.read_doubles("x", 3 * n), n);
   p.x0 = h5::unflatten<3, 1>(f.read_doubles("x0", 3 * n), n);
   p.v = h5::unflatten<3, 1>(f.read_doubles("v", 3 * n), n);
+  if (!f.has("C")) {
+    throw std::runtime_error("checkpoint " + dir +
+                             " has no APIC affine matrices (C): it was written by an older "
+                             "mpm_app; rerun from the start");
+  }
+  p.C = h5::unflatten<3, 3>(f.read_doubles("C", 9 * n), n);
   p.F = h5::unflatten<3, 3>(f.read_doubles("F", 9 * n), n);
   p.dF = h5::unflatten<3, 3>(f.read_doubles("dF", 9 * n), n);
   p.sigma = h5::unflatten<3, 3>(f.read_doubles("sigma", 9 * n), n);

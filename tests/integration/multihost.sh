@@ -104,7 +104,7 @@ run_on_a() {
 
 # The elastic column, shorter, a checkpoint every 100 steps, and a short stall limit: on
 # another host a rank that no longer answers can only be noticed by the time it takes.
-sed -e 's/^  end_time: .*/  end_time: 0.2/' -e "s/^  service_name: .*/  service_name: mpmdem_multihost_$$/" \
+sed -e 's/^  end_time: .*/  end_time: 0.1/' -e "s/^  service_name: .*/  service_name: mpmdem_multihost_$$/" \
   -e 's/^  connect_timeout_s: .*/&\n  peer_timeout_s: 5/' \
   -e 's/^  energy_interval: .*/&\n  checkpoint_interval_steps: 100\n  checkpoints_kept: 3/' \
   "$src/configs/elastic_column_remote.yaml" >"$work/scene.yaml"

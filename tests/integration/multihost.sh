@@ -35,6 +35,15 @@ source "$src/tests/integration/common.sh"
 test_workdir multihost
 agent=$src/tests/integration/netns_agent.sh
 
+# Namespaces of an earlier run of this test whose shell is gone (killed with SIGKILL, e.g. by
+# a CTest timeout, so its trap never ran): stop what runs in them (by PID) and delete them.
+for ns in $(ip netns list 2>/dev/null | grep -oE '^mpmdem-mh[0-9]+-(a|b|c|sw)\b'); do
+  owner=${ns#mpmdem-mh}
+  owner=${owner%%-*}
+  kill -0 "$owner" 2>/dev/null && continue
+  for pid in $(ip netns pids "$ns" 2>/dev/null); do kill -KILL "$pid" 2>/dev/null; done
+  ip netns delete "$ns" 2>/dev/null && echo "removed the stale namespace $ns (its test, pid $owner, is gone)"
+done
 tag=mh$$
 sw=mpmdem-$tag-sw
 hosts=(mpmdem-$tag-a mpmdem-$tag-b mpmdem-$tag-c)

@@ -46,7 +46,7 @@ for ns in $(ip netns list 2>/dev/null | grep -oE '^mpmdem-mh[0-9]+-(a|b|c|sw)\b'
 done
 tag=mh$$
 sw=mpmdem-$tag-sw
-hosts=(mpmdem-$tag-a mpmdem-$tag-b mpmdem-$tag-c)
+hosts=("mpmdem-$tag-a" "mpmdem-$tag-b" "mpmdem-$tag-c")
 A=${hosts[0]} B=${hosts[1]} C=${hosts[2]}
 made=()
 run_pid=""

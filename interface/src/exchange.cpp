@@ -26,6 +26,12 @@ using protocol::RveStatus;
 
 namespace {
 
+// Tags of the point-to-point messages from each server rank to the client root: the replies
+// and the RankReport go one message per rank (not MPI_Igatherv/MPI_Igather) so that a client
+// that waits in vain can name the ranks that did not answer (PeerWatch::wait_each).
+constexpr int kTagReplies = 41;
+constexpr int kTagReport = 42;
+
 // Waits for a non-blocking MPI operation without spinning: Open MPI's blocking calls poll a
 // core at 100% (mpi_yield_when_idle only yields it), which on a small machine takes a core
 // from the DEM ranks while mpm_app waits for their replies (and from mpm_app while the
@@ -197,35 +203,40 @@ void RveClient::scatter(const std::vector<T>& items, MPI_Datatype type) {
   }
 }
 
-double RveClient::gather(std::vector<RveReply>& replies, double quiet_s) {
-  replies.resize(n_rve_);
-  const double t0 = now_s();
-  const int root_arg = root() ? MPI_ROOT : MPI_PROC_NULL;
+template <class T>
+void RveClient::receive_each(T* data, const int* counts, const int* displs, MPI_Datatype type,
+                             int tag, double quiet_s) {
+  if (!root()) return;  // the root alone receives (other client ranks sat out the gathers)
+  const int n = conn_.remote_size();
+  std::vector<MPI_Request> requests(static_cast<std::size_t>(n), MPI_REQUEST_NULL);
+  std::vector<int> from(static_cast<std::size_t>(n));
   try {
-    MPI_Request request = MPI_REQUEST_NULL;
-    MPMDEM_CHECK_MPI(MPI_Igatherv(nullptr, 0, types_.reply, replies.data(), counts_.data(),
-                                  displs_.data(), types_.reply, root_arg, conn_.intercomm(),
-                                  &request));
-    wait(request, quiet_s);
+    for (int r = 0; r < n; ++r) {
+      const auto i = static_cast<std::size_t>(r);
+      from[i] = r;
+      MPMDEM_CHECK_MPI(
+          MPI_Irecv(data + displs[i], counts[i], type, r, tag, conn_.intercomm(), &requests[i]));
+    }
+    watch_.wait_each(requests, from, during_, quiet_s);
   } catch (...) {
     broken_ = true;
     throw;
   }
+}
+
+double RveClient::gather(std::vector<RveReply>& replies, double quiet_s) {
+  replies.resize(n_rve_);
+  const double t0 = now_s();
+  receive_each(replies.data(), counts_.data(), displs_.data(), types_.reply, kTagReplies, quiet_s);
   return now_s() - t0;
 }
 
 void RveClient::gather_reports(const char* what) {
-  reports_.resize(static_cast<std::size_t>(conn_.remote_size()));
-  const int root_arg = root() ? MPI_ROOT : MPI_PROC_NULL;
-  try {
-    MPI_Request request = MPI_REQUEST_NULL;
-    MPMDEM_CHECK_MPI(MPI_Igather(nullptr, 0, types_.report, reports_.data(), 1, types_.report,
-                                 root_arg, conn_.intercomm(), &request));
-    wait(request);
-  } catch (...) {
-    broken_ = true;
-    throw;
-  }
+  const int n = conn_.remote_size();
+  reports_.resize(static_cast<std::size_t>(n));
+  std::vector<int> ones(static_cast<std::size_t>(n), 1), index(static_cast<std::size_t>(n));
+  for (int r = 0; r < n; ++r) index[static_cast<std::size_t>(r)] = r;
+  receive_each(reports_.data(), ones.data(), index.data(), types_.report, kTagReport, 0.0);
   timing_.max_compute_s = 0.0;
   timing_.mean_compute_s = 0.0;
   for (const auto& r : reports_) {
@@ -432,17 +443,16 @@ void RveServerChannel::receive(std::vector<RveRequest>& requests) {
 void RveServerChannel::send(const std::vector<RveReply>& replies, const RankReport& report) {
   assert(replies.size() == mine_.count);
   MPI_Request request = MPI_REQUEST_NULL;
-  MPMDEM_CHECK_MPI(MPI_Igatherv(replies.data(), static_cast<int>(mine_.count), types_.reply,
-                                nullptr, nullptr, nullptr, types_.reply, 0, conn_.intercomm(),
-                                &request));
+  MPMDEM_CHECK_MPI(MPI_Isend(replies.data(), static_cast<int>(mine_.count), types_.reply, 0,
+                             kTagReplies, conn_.intercomm(), &request));
   wait_politely(request);
   send_report(report);
 }
 
 void RveServerChannel::send_report(const RankReport& report) {
   MPI_Request request = MPI_REQUEST_NULL;
-  MPMDEM_CHECK_MPI(MPI_Igather(&report, 1, types_.report, nullptr, 0, types_.report, 0,
-                               conn_.intercomm(), &request));
+  MPMDEM_CHECK_MPI(
+      MPI_Isend(&report, 1, types_.report, 0, kTagReport, conn_.intercomm(), &request));
   wait_politely(request);
 }
 

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cassert>
 #include <cerrno>
 #include <chrono>
 #include <cstring>
@@ -81,6 +82,14 @@ std::string PeerWatch::describe(int rank) const {
 }
 
 void PeerWatch::wait(MPI_Request& request, const std::string& during, double quiet_s) const {
+  std::vector<MPI_Request> one{request};
+  wait_each(one, {}, during, quiet_s);
+  request = one.front();
+}
+
+void PeerWatch::wait_each(std::vector<MPI_Request>& requests, const std::vector<int>& from,
+                          const std::string& during, double quiet_s) const {
+  assert(from.empty() || from.size() == requests.size());
   using Clock = std::chrono::steady_clock;
   const auto seconds = [](double s) {
     return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
@@ -89,10 +98,15 @@ void PeerWatch::wait(MPI_Request& request, const std::string& during, double qui
   const auto quiet_end = start + seconds(std::max(quiet_s, 0.0));
   auto next_probe = start + seconds(probe_interval_s_);
   std::chrono::microseconds pause(20);
+  std::vector<int> pending;  // indices of the requests not complete yet
   for (;;) {
-    int done = 0;
-    MPMDEM_CHECK_MPI(MPI_Test(&request, &done, MPI_STATUS_IGNORE));
-    if (done) return;
+    pending.clear();
+    for (std::size_t i = 0; i < requests.size(); ++i) {
+      int done = 0;  // MPI_Test of a completed (null) request says done
+      MPMDEM_CHECK_MPI(MPI_Test(&requests[i], &done, MPI_STATUS_IGNORE));
+      if (!done) pending.push_back(static_cast<int>(i));
+    }
+    if (pending.empty()) return;
     if (const auto t = Clock::now(); t < quiet_end) {
       std::this_thread::sleep_for(std::min(quiet_end, next_probe) - t);
     } else {
@@ -109,19 +123,27 @@ void PeerWatch::wait(MPI_Request& request, const std::string& during, double qui
     }
     const double waited = std::chrono::duration<double>(now - start).count();
     if (stall_limit_s_ > 0.0 && waited > stall_limit_s_) {
-      std::vector<int> unprobed;
-      for (std::size_t r = 0; r < peers_.size(); ++r)
-        if (!probeable(peers_[r])) unprobed.push_back(static_cast<int>(r));
       std::ostringstream msg;
-      msg << "no reply from the DEM server within " << stall_limit_s_
-          << " s (coupling.peer_timeout_s) during " << during;
-      if (!unprobed.empty()) {
-        msg << "; ranks on other hosts, which cannot be probed: " << list(unprobed, *this);
+      std::vector<int> named;
+      if (!from.empty()) {  // one request per server rank: the silent ones are known
+        for (int i : pending) named.push_back(from[static_cast<std::size_t>(i)]);
+        msg << "no reply from " << list(named, *this) << " within " << stall_limit_s_
+            << " s (coupling.peer_timeout_s) during " << during << " ("
+            << requests.size() - pending.size() << " of " << requests.size()
+            << " server ranks replied): unreachable, hung or dead";
       } else {
-        msg << "; every server rank still runs on this host (a hung backend?)";
+        for (std::size_t r = 0; r < peers_.size(); ++r)
+          if (!probeable(peers_[r])) named.push_back(static_cast<int>(r));
+        msg << "no reply from the DEM server within " << stall_limit_s_
+            << " s (coupling.peer_timeout_s) during " << during;
+        if (!named.empty()) {
+          msg << "; ranks on other hosts, which cannot be probed: " << list(named, *this);
+        } else {
+          msg << "; every server rank still runs on this host (a hung backend?)";
+        }
       }
       msg << ". Raise coupling.peer_timeout_s if one exchange can legitimately take longer";
-      throw PeerLost(msg.str(), unprobed);
+      throw PeerLost(msg.str(), named);
     }
   }
 }

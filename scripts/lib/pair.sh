@@ -37,6 +37,12 @@ pair_mpirun_args() {
     --mca btl_tcp_if_include "$ifs" --mca oob_tcp_if_include "$ifs"
     --ompi-server "file:$PAIR_URI")
   if [[ $(id -u) -eq 0 ]]; then args+=(--allow-run-as-root); fi
+  # Another launcher than ssh for the hosts of --mpm-hosts/--dem-hosts (docs/cluster.md):
+  # the orted stays a child of it (not daemonized), so stopping mpirun's process tree by
+  # PID also stops the remote side when the agent's processes run on this machine.
+  if [[ -n ${MPMDEM_RSH_AGENT:-} ]]; then
+    args+=(--mca plm_rsh_agent "$MPMDEM_RSH_AGENT" --mca plm_rsh_no_tree_spawn 1 --leave-session-attached)
+  fi
   if [[ -n "${OMP_NUM_THREADS:-}" ]]; then args+=(-x OMP_NUM_THREADS); fi
   args+=(${MPMDEM_MPIRUN_ARGS:-})
   printf '%s\n' "${args[@]}"
@@ -131,13 +137,27 @@ pair_start_ompi_server() {
   return 1
 }
 
+# PAIR_SERVER_LAUNCH_HOST: start the server's mpirun itself on that host, through
+# MPMDEM_RSH_AGENT (default ssh) as one shell command line, instead of on this one. Open MPI
+# 4.1 connects two mpirun jobs only when the accepting ranks run on their mpirun's own node
+# (docs/cluster.md).
+PAIR_SERVER_LAUNCH_HOST=""
 pair_start_server() {
   local np=$1 log=$2
   shift 2
   local args
   mapfile -t args < <(pair_mpirun_args)
   echo "mpirun ${args[*]} ${PAIR_SERVER_MPIRUN_ARGS[*]} -np $np $*" >"$log"
-  setsid mpirun "${args[@]}" "${PAIR_SERVER_MPIRUN_ARGS[@]}" -np "$np" "$@" </dev/null >>"$log" 2>&1 &
+  if [[ -n $PAIR_SERVER_LAUNCH_HOST ]]; then
+    local cmd
+    cmd="cd $(printf '%q' "$PWD") && exec env"
+    [[ -z ${OMP_NUM_THREADS:-} ]] || cmd+=" OMP_NUM_THREADS=$(printf '%q' "$OMP_NUM_THREADS")"
+    cmd+=" $(printf '%q ' mpirun "${args[@]}" "${PAIR_SERVER_MPIRUN_ARGS[@]}" -np "$np" "$@")"
+    echo "(started on $PAIR_SERVER_LAUNCH_HOST through ${MPMDEM_RSH_AGENT:-ssh})" >>"$log"
+    setsid "${MPMDEM_RSH_AGENT:-ssh}" "$PAIR_SERVER_LAUNCH_HOST" "$cmd" </dev/null >>"$log" 2>&1 &
+  else
+    setsid mpirun "${args[@]}" "${PAIR_SERVER_MPIRUN_ARGS[@]}" -np "$np" "$@" </dev/null >>"$log" 2>&1 &
+  fi
   PAIR_SERVER_PID=$!
   PAIR_PIDS+=("$PAIR_SERVER_PID")
 }
@@ -207,7 +227,20 @@ pair_wait_server() {
     sleep 0.1
   done
   if kill -0 "$PAIR_SERVER_PID" 2>/dev/null; then
+    # mpirun relays TERM to its daemons; one on a host it can no longer reach (a cut link)
+    # never answers, so it gets 5 s, then it and its processes on this machine get KILL.
+    local all
+    mapfile -t all < <(pair_descendants "$PAIR_SERVER_PID")
     kill -TERM -- "-$PAIR_SERVER_PID" 2>/dev/null || true
+    for i in $(seq 1 50); do
+      kill -0 "$PAIR_SERVER_PID" 2>/dev/null || break
+      sleep 0.1
+    done
+    if kill -0 "$PAIR_SERVER_PID" 2>/dev/null; then
+      mapfile -t -O ${#all[@]} all < <(pair_descendants "$PAIR_SERVER_PID")
+      kill -KILL -- "-$PAIR_SERVER_PID" 2>/dev/null
+      for i in "${all[@]}"; do kill -KILL "$i" 2>/dev/null; done
+    fi
     wait "$PAIR_SERVER_PID" 2>/dev/null || true
     return 124
   fi

@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include "mpmdem/errors.hpp"
 #include "mpmdem/peer_watch.hpp"
@@ -68,6 +69,47 @@ TEST(PeerWatchWait, ADeadRankIsFoundDuringTheQuietTime) {
   EXPECT_LT(seconds_since(t0), 10.0) << "the quiet time delayed the dead rank's report";
   MPI_Cancel(&recv);
   MPI_Wait(&recv, MPI_STATUS_IGNORE);
+}
+
+// Three server ranks on other hosts (not probeable), one request each: ranks 0 and 2 answer,
+// rank 1 does not (its host was cut off). Past the stall limit the wait names rank 1 alone.
+TEST(PeerWatchWait, AStallNamesOnlyTheRanksThatDidNotAnswer) {
+  std::vector<mpmdem::protocol::RankIdentity> peers(3);
+  const std::string hosts[3] = {"node-b", "node-c", "node-b"};
+  for (int r = 0; r < 3; ++r) {
+    auto& id = peers[static_cast<std::size_t>(r)];
+    std::memset(&id, 0, sizeof id);
+    id.rank = r;
+    id.pid = 1000 + r;
+    std::memcpy(id.host, hosts[r].data(), hosts[r].size());
+  }
+  PeerWatch w;
+  w.set_peers(peers, "node-a");
+  w.set_stall_limit(0.3);
+  w.set_probe_interval(0.05);
+  int in[3] = {0, 0, 0}, out = 5;
+  std::vector<MPI_Request> recvs(3, MPI_REQUEST_NULL);
+  for (int r = 0; r < 3; ++r) MPI_Irecv(&in[r], 1, MPI_INT, 0, 10 + r, MPI_COMM_SELF, &recvs[r]);
+  for (int r : {0, 2}) MPI_Send(&out, 1, MPI_INT, 0, 10 + r, MPI_COMM_SELF);
+  const auto t0 = Clock::now();
+  try {
+    w.wait_each(recvs, {0, 1, 2}, "step 9");
+    ADD_FAILURE() << "the wait ended without rank 1's reply";
+  } catch (const mpmdem::PeerLost& e) {
+    EXPECT_EQ(e.ranks(), std::vector<int>{1});
+    const std::string what = e.what();
+    EXPECT_NE(what.find("no reply from DEM server rank 1 (pid 1001 on host node-c) within 0.3 s"),
+              std::string::npos)
+        << what;
+    EXPECT_NE(what.find("during step 9 (2 of 3 server ranks replied)"), std::string::npos) << what;
+  }
+  const double took = seconds_since(t0);
+  EXPECT_GE(took, 0.3);
+  EXPECT_LT(took, 5.0);
+  EXPECT_EQ(in[0], 5);
+  EXPECT_EQ(in[2], 5);
+  MPI_Cancel(&recvs[1]);
+  MPI_Wait(&recvs[1], MPI_STATUS_IGNORE);
 }
 
 }  // namespace

@@ -9,7 +9,8 @@
 //                                           }
 // Every exchange: MPI_Ibcast(ControlHeader) from the client root, MPI_Iscatterv of the
 // per-RVE payload in contiguous partitions (partition_contiguous(n_rve, server ranks)),
-// MPI_Igatherv of the replies, MPI_Igather of one RankReport per server rank. Payloads travel
+// then from each server rank one MPI_Isend of its replies and one of its RankReport to the
+// client root (point-to-point, so that a stall names the silent ranks). Payloads travel
 // as derived datatypes (MPI_Type_contiguous of the struct size in bytes) so counts are
 // RVEs, not bytes. A RankReport with a fatal status makes the client throw PeerError.
 // The client waits for every collective through a PeerWatch (peer_watch.hpp): a server rank
@@ -101,6 +102,11 @@ class RveClient {
   void require_connected(const char* what) const;
   template <class T>
   void scatter(const std::vector<T>& items, MPI_Datatype type);
+  // Client root: one MPI_Irecv per server rank r of counts[r] items at data + displs[r]
+  // (tag), waited for through PeerWatch::wait_each.
+  template <class T>
+  void receive_each(T* data, const int* counts, const int* displs, MPI_Datatype type, int tag,
+                    double quiet_s);
   // Returns the time waited [s]; `quiet_s` as in PeerWatch::wait.
   double gather(std::vector<protocol::RveReply>& replies, double quiet_s = 0.0);
 

@@ -7,7 +7,8 @@
 // handshake): a rank on this host whose process is gone (kill(pid, 0) fails with ESRCH)
 // ends the wait at once; ranks on other hosts cannot be probed, so a stall limit (no
 // completion for that long, coupling.peer_timeout_s) ends it too. Either way PeerLost is
-// thrown, naming the rank(s), their pid and host, and what the client was waiting for.
+// thrown, naming the rank(s), their pid and host, and what the client was waiting for. Waits
+// with one request per server rank (the replies) name exactly the ranks that did not answer.
 #pragma once
 
 #include <mpi.h>
@@ -38,6 +39,11 @@ class PeerWatch {
   // ~1000 times a second, and on a machine whose cores all run DEM ranks each wake-up
   // takes a core from one of them.
   void wait(MPI_Request& request, const std::string& during, double quiet_s = 0.0) const;
+  // The same for several requests, `from[i]` the server rank request i waits for (or empty:
+  // not per rank). Past the stall limit it names the ranks whose requests are not complete
+  // (on another host: unreachable, hung or dead), not every rank it cannot probe.
+  void wait_each(std::vector<MPI_Request>& requests, const std::vector<int>& from,
+                 const std::string& during, double quiet_s = 0.0) const;
 
   // Server ranks on this host whose process no longer exists.
   std::vector<int> dead_ranks() const;

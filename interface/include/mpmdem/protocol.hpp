@@ -24,8 +24,9 @@ namespace mpmdem::protocol {
 // 1.1: particles in kInitialise replies. 2.0: RveReply::cost_s; kRebalance (load balance).
 // 2.1: kFlagSkip (lazy RVE evaluation). 3.0: RankIdentity gather after the handshake (peer
 // faults: the client names and probes the server ranks). 4.0: RveInit::point (the RVE order on
-// the wire is the client's choice, coupling.rve_order).
-inline constexpr std::uint16_t kVersionMajor = 4;
+// the wire is the client's choice, coupling.rve_order). 5.0: replies and RankReports travel
+// as one point-to-point message per server rank (tags 41, 42), not as gathers.
+inline constexpr std::uint16_t kVersionMajor = 5;
 inline constexpr std::uint16_t kVersionMinor = 0;
 
 // "MPMD" in ASCII; a peer that reads another value speaks another protocol or byte order.

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -80,16 +81,25 @@ struct SolverParams {
   Scheme scheme = Scheme::kMUSL;
   ShapeKind shape = ShapeKind::kLinear;
   Transfer transfer = Transfer::kPicFlip;  // kAPIC needs shape kQuadraticBSpline
-  double flip = 0.99;     // FLIP fraction of the PIC/FLIP blend (1 = pure FLIP; pic_flip only)
-  double cfl = 0.5;       // Courant number
-  double dt_max = 1e-3;   // cap on the automatic step [s]
+  double flip = 0.99;  // FLIP fraction of the PIC/FLIP blend (1 = pure FLIP; pic_flip only)
+  // > 0: the PIC share of the blend is dt / flip_time_scale per step (a fixed filtering rate
+  // per unit time, so the dissipation does not grow with the step count) in place of 1 - flip.
+  double flip_time_scale = 0.0;  // [s]
+  double cfl = 0.5;              // Courant number
+  double dt_max = 1e-3;          // cap on the automatic step [s]
   double dt_fixed = 0.0;  // > 0: this step in place of the automatic one [s] (stability studies)
   double end_time = 1.0;  // [s]
   Vec3 gravity{0.0, 0.0, -9.81};
+
   double local_damping = 0.0;  // Cundall non-viscous damping coefficient on grid forces
   OnExit on_exit = OnExit::kError;
   int threads = 0;  // 0: OpenMP default
 };
+// FLIP fraction of a step of dt: 1 - dt / flip_time_scale (at least 0) when that is set, else
+// flip.
+inline double flip_fraction(const SolverParams& sp, double dt) {
+  return sp.flip_time_scale > 0.0 ? std::max(0.0, 1.0 - dt / sp.flip_time_scale) : sp.flip;
+}
 
 enum class ModelKind { kLinearElastic, kDruckerPrager, kRemote };
 // How the Drucker-Prager cone is fitted to Mohr-Coulomb (constitutive/drucker_prager.hpp).

@@ -274,7 +274,7 @@ void Solver::step_with(Stencils<Shape::kWidth>& stencils, double dt) {
   const auto t2 = Clock::now();
   // Update point velocities (APIC or PIC/FLIP) and positions; MUSL re-projects the momentum.
   const bool musl = sp.scheme == Scheme::kMUSL;
-  g2p(p_, stencils, grid_, sp.transfer, sp.flip, dt, musl, buffers_);
+  g2p(p_, stencils, grid_, sp.transfer, flip_fraction(sp, dt), dt, musl, buffers_);
   if (musl) {
     grid_velocity_from_momentum(grid_);
     bc_.apply(grid_.v_i);

@@ -43,7 +43,7 @@ TEST(ConfigValidation, UnknownNestedKeyWithoutCloseMatchListsKnownKeys) {
   const std::string msg =
       scene_error(replaced(kMinimal, "  end_time: 0.1\n", "  end_time: 0.1\n  zzzzzz: 1\n"));
   EXPECT_CONTAINS(msg, std::string("unknown key 'solver.zzzzzz'"));
-  EXPECT_CONTAINS(msg, std::string("known keys here: scheme, shape, transfer, flip, cfl"));
+  EXPECT_CONTAINS(msg, std::string("known keys here: scheme, shape, transfer, flip, flip_time_scale, cfl"));
   EXPECT_CONTAINS(msg, std::string("line 11"));
 }
 
@@ -380,4 +380,18 @@ TEST(ConfigCrossChecks, ApicNeedsBSplinesAndNoFlip) {
   EXPECT_CONTAINS(flip, std::string("solver.flip"));
   EXPECT_CONTAINS(flip, std::string("applies only to solver.transfer: pic_flip"));
   EXPECT_CONTAINS(flip, std::string("apic_flip.yaml line 13"));
+}
+
+TEST(ConfigCrossChecks, FlipTimeScaleReplacesFlip) {
+  const std::string both =
+      load_error("fts.yaml", replaced(kMinimal, "  end_time: 0.1\n",
+                                      "  end_time: 0.1\n  flip: 0.99\n  flip_time_scale: 0.03\n"));
+  EXPECT_CONTAINS(both, std::string("solver.flip_time_scale"));
+  EXPECT_CONTAINS(both, std::string("replaces solver.flip, which is set too"));
+  mpmdem::mpm::SolverParams sp;
+  sp.flip_time_scale = 0.03;
+  EXPECT_DOUBLE_EQ(mpmdem::mpm::flip_fraction(sp, 0.003), 0.9);
+  EXPECT_DOUBLE_EQ(mpmdem::mpm::flip_fraction(sp, 0.06), 0.0);
+  sp.flip_time_scale = 0.0;
+  EXPECT_DOUBLE_EQ(mpmdem::mpm::flip_fraction(sp, 0.003), 0.99);
 }

@@ -202,6 +202,15 @@ SolverParams load_solver(const Config& cfg) {
              "transfer: pic_flip");
   }
   s.flip = cfg.number("solver.flip");
+  s.flip_time_scale = cfg.number("solver.flip_time_scale");
+  if (s.flip_time_scale > 0.0 && s.transfer == Transfer::kAPIC) {
+    cfg.fail("solver.flip_time_scale",
+             "applies only to solver.transfer: pic_flip (the transfer is apic); remove it");
+  }
+  if (s.flip_time_scale > 0.0 && cfg.has("solver.flip")) {
+    cfg.fail("solver.flip_time_scale",
+             "replaces solver.flip, which is set too; remove one of them");
+  }
   s.cfl = cfg.number("solver.cfl");
   s.dt_max = cfg.number("solver.dt_max");
   s.dt_fixed = cfg.number("solver.dt_fixed");

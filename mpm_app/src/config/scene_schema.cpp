@@ -132,6 +132,12 @@ void add_solver_keys(config::Schema& s) {
             .def("0.99")
             .ge(0)
             .le(1));
+  s.add(key("solver.flip_time_scale", Type::kDouble, "s",
+            "pic_flip only: the PIC share of a step is dt / flip_time_scale instead of 1 - flip, "
+            "so the blend filters the velocities at a fixed rate per unit time and the result "
+            "does not drift with the time step; 0: off (solver.flip)")
+            .def("0")
+            .ge(0));
   s.add(key("solver.cfl", Type::kDouble, "-",
             "Courant number: dt = cfl cell_size / c, c the largest P-wave speed")
             .def("0.5")

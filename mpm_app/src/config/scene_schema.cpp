@@ -224,7 +224,14 @@ void add_output_keys(config::Schema& s) {
             "scripts/run --resume RUN continues from the newest complete one); 0: none")
             .def("0")
             .ge(0));
-  s.add(key("output.checkpoints_kept", Type::kInt, "-", "newest complete checkpoints kept")
+  s.add(key("output.checkpoint_interval_s", Type::kDouble, "s",
+            "also write a checkpoint once this much wall time has passed since the last one "
+            "(mpm_app decides after a step and both sides save that step; whichever of the "
+            "two intervals comes first); 0: no time-triggered checkpoints")
+            .def("60")
+            .ge(0));
+  s.add(key("output.checkpoints_kept", Type::kInt, "-",
+            "newest complete checkpoints kept (older ones are removed)")
             .def("2")
             .ge(1));
   s.add(key("output.progress_interval_s", Type::kDouble, "s",

@@ -194,7 +194,8 @@ class Run {
   }
 
   // Both sides save their state; the checkpoint counts once both are done (COMPLETE).
-  void write_checkpoint() {
+  // Returns the wall time it took.
+  double write_checkpoint() {
     require_finite();
     const double start = wall_time();
     const std::string dir = checkpoint_directory(dir_, solver_->step_count());
@@ -206,6 +207,7 @@ class Run {
     ++checkpoints_;
     out_ << "[step " << solver_->step_count() << ", t=" << solver_->time() << " s] checkpoint "
          << dir << " (" << format_seconds(took) << " s)" << std::endl;
+    return took;
   }
 
   // A peer fault (a DEM rank died, an MPI failure): mpm_app saves its own state, without
@@ -333,8 +335,8 @@ class Run {
       }
       observe_column();
       if (checkpoints.due(solver_->step_count(), wall_time())) {
-        write_checkpoint();
-        checkpoints.written(wall_time());
+        const double took = write_checkpoint();
+        checkpoints.written(wall_time(), took);
       }
       if (progress.due()) progress.update(progress_state());
     }

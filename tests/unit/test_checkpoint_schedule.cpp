@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <sstream>
 #include <string>
 
@@ -36,7 +37,7 @@ TEST(CheckpointSchedule, TimeTriggerCountsFromTheLastCheckpoint) {
   CheckpointSchedule c(0, 60.0, 1000.0);  // the run started (or resumed) at 1000 s
   EXPECT_FALSE(c.due(1, 1059.9));
   EXPECT_TRUE(c.due(2, 1060.0));
-  c.written(1061.0);  // writing took 1 s: the next one is due 60 s after it ended
+  c.written(1061.0, 1.0);  // writing took 1 s: the next one is due 60 s after it ended
   EXPECT_FALSE(c.due(3, 1120.5));
   EXPECT_TRUE(c.due(4, 1121.0));
 }
@@ -44,9 +45,26 @@ TEST(CheckpointSchedule, TimeTriggerCountsFromTheLastCheckpoint) {
 TEST(CheckpointSchedule, BothTriggersWhicheverComesFirst) {
   CheckpointSchedule c(50, 10.0, 0.0);
   EXPECT_TRUE(c.due(50, 1.0));  // the step trigger, before the time
-  c.written(1.0);               // ... restarts the wall-time count
+  c.written(1.0, 0.1);          // ... restarts the wall-time count
   EXPECT_FALSE(c.due(51, 10.9));
   EXPECT_TRUE(c.due(52, 11.0));  // the time trigger, between two step multiples
+}
+
+// A checkpoint that took 3 s: the next time-triggered one waits 49 x 3 s = 147 s > 60 s,
+// so checkpoints take at most 3 / (147 + 3) = 2 % of the wall time.
+TEST(CheckpointSchedule, SlowCheckpointsAreSpacedToCostAtMostTwoPercent) {
+  CheckpointSchedule c(0, 60.0, 0.0);
+  EXPECT_TRUE(c.due(10, 60.0));
+  c.written(63.0, 3.0);
+  EXPECT_DOUBLE_EQ(c.gap_s(), 147.0);
+  EXPECT_FALSE(c.due(20, 63.0 + 146.9));
+  EXPECT_TRUE(c.due(21, 63.0 + 147.0));
+  EXPECT_LE(3.0 / (c.gap_s() + 3.0), CheckpointSchedule::kMaxCost + 1e-15);
+  c.written(300.0, 0.5);  // quick again: the configured interval rules
+  EXPECT_DOUBLE_EQ(c.gap_s(), 60.0);
+  // The step trigger is not spaced: the user asked for every n steps.
+  const CheckpointSchedule s(5, 60.0, 0.0);
+  EXPECT_TRUE(s.due(5, 0.0));
 }
 
 TEST(CheckpointSchedule, ZeroTurnsBothOff) {
@@ -159,6 +177,11 @@ TEST(CheckpointTime, TimeTriggeredRunEndsAsWithoutAndResumesBitwise) {
   const Ran b = run(scene, timed.str());
   ASSERT_EQ(b.result.exit_code, 0);
   const double written = figure(b.result.summary, "checkpoints");
+  std::cout << written << " time-triggered checkpoints in " << b.result.summary.wall_time_s
+            << " s (" << figure(b.result.summary, "checkpoint_wall_time_s") << " s in them)\n";
+  // Asked for every 20 ms, they are spaced to cost ~2 % (without the spacing: ~20 %).
+  EXPECT_LE(figure(b.result.summary, "checkpoint_wall_time_s"),
+            0.05 * b.result.summary.wall_time_s);
   ASSERT_GE(written, 2.0) << "the run took " << b.result.summary.wall_time_s << " s";
   int complete = 0;
   for (const auto& e : fs::directory_iterator(timed.path() / "checkpoints"))

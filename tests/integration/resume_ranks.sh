@@ -5,7 +5,9 @@
 #   3; its end state (final_state.h5: x, v, stress) must equal the uninterrupted run's bit
 #   for bit: every RVE's state is found by its id in the checkpoint, whichever rank wrote
 #   it, and the partition does not change any RVE's arithmetic.
-#   elastic: the elastic column against dem_app --backend elastic (to the end);
+#   elastic: the elastic column against dem_app --backend elastic (to the end), with
+#            time-triggered checkpoints (every 0.1 s of wall time or more): resumed from
+#            the oldest one kept, whichever step the clock picked;
 #   yade:    the tiny multiscale column (8 YADE RVEs), 60 steps (--max-steps).
 # Usage: resume_ranks.sh elastic|yade. Env: MPMDEM_BIN (build dir), MPMDEM_SRC (source dir).
 # scripts/run stops every process it starts by PID.
@@ -21,9 +23,9 @@ ok() { echo "ok: $*"; }
 
 if [[ $case_name == elastic ]]; then
   sed -e 's/^  end_time: .*/  end_time: 0.1/' \
-    -e 's/^  energy_interval: .*/&\n  checkpoint_interval_steps: 200\n  checkpoint_interval_s: 0\n  checkpoints_kept: 10/' \
+    -e 's/^  energy_interval: .*/&\n  checkpoint_interval_s: 0.1\n  checkpoints_kept: 10/' \
     "$src/configs/elastic_column_remote.yaml" >"$work/scene.yaml"
-  limit=() cut=200
+  limit=() cut=""
 else
   tiny_column_scene "$work/scene.yaml"
   sed -i -e 's/^  checkpoint_interval_steps: .*/  checkpoint_interval_steps: 20\n  checkpoint_interval_s: 0/' "$work/scene.yaml"
@@ -31,6 +33,14 @@ else
 fi
 grep -q '^  checkpoint_interval_s: 0' "$work/scene.yaml" || { echo "FAIL: scene edit" >&2; exit 1; }
 run_job "$work/full.log" "$work/scene.yaml" --out "$work/full" --dem-ranks 2 "${limit[@]}"
+if [[ -z $cut ]]; then  # time-triggered: the oldest complete checkpoint kept
+  ckpts=("$work"/full/checkpoints/step_*/COMPLETE)
+  ((${#ckpts[@]} >= 2)) && [[ -f ${ckpts[0]} ]] || { echo "FAIL: fewer than 2 time-triggered checkpoints" >&2; exit 1; }
+  first=${ckpts[0]%/COMPLETE}
+  cut=$((10#${first##*step_}))
+  ok "${#ckpts[@]} time-triggered checkpoints kept (steps ${ckpts[*]//[^0-9 ]/}); resuming from step $cut"
+  [[ -n $(ls "$first/dem") ]] || fail "the DEM side saved nothing in $first/dem"
+fi
 for m in 1 3; do
   copy=$work/ranks_$m
   rm -rf "$copy"

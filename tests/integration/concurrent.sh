@@ -4,8 +4,12 @@
 # names, made unique in the same second), with their own ompi-server, port file and logs,
 # and end in the same state (same scene, same arithmetic).
 #   elastic: configs/elastic_column_remote.yaml (shortened), dem_app --backend elastic.
-#   yade:    the tiny multiscale column with a packing library that does not exist yet: it
-#            must be built once (flock in scripts/lib/ensure_packings.py), not twice.
+#   yade:    the tiny multiscale column (30 steps) with a packing library that does not
+#            exist yet: it must be built once (flock in scripts/lib/ensure_packings.py), not
+#            twice. The two runs use 2 and 1 DEM ranks (the same end state: the partition
+#            changes no RVE's arithmetic), and the 2-rank run, resumed from its step-10
+#            checkpoint on 3 ranks, ends there too (issue 16, item 2, the YADE case: in one
+#            test to keep CI short).
 # Usage: concurrent.sh elastic|yade. Env: MPMDEM_BIN (build dir), MPMDEM_SRC (source dir).
 # scripts/run stops every process it starts by PID; this script stops its own two
 # scripts/run by PID on failure or interruption.
@@ -30,16 +34,20 @@ ok() { echo "ok: $*"; }
 extra=()
 if [[ $case_name == elastic ]]; then
   sed -e 's/^  end_time: .*/  end_time: 0.1/' "$src/configs/elastic_column_remote.yaml" >"$work/scene.yaml"
-  extra=(--dem-ranks 1)
+  extra=()
 else
   # A packing library that does not exist yet, built from the spec by the runs themselves.
   sed -e "s|PACKING_DIR|$work/packings|" -e "s|PACKING_SPEC|$src/configs/packings/column_collapse.yaml|" \
     "$src/tests/integration/column_yade_tiny.yaml" >"$work/scene.yaml"
-  extra=(--dem-ranks 1 --max-steps 5)
+  sed -i -e 's/^  checkpoint_interval_steps: .*/  checkpoint_interval_steps: 10\n  checkpoint_interval_s: 0/' "$work/scene.yaml"
+  grep -q '^  checkpoint_interval_s: 0' "$work/scene.yaml" || { echo "FAIL: scene edit" >&2; exit 1; }
+  extra=(--max-steps 30)
 fi
 export MPMDEM_RUNS_DIR=$work/runs
 for k in 1 2; do
-  "$src/scripts/run" "$work/scene.yaml" "${extra[@]}" >"$work/run$k.log" 2>&1 &
+  ranks=1
+  [[ $case_name == yade ]] && ranks=$((3 - k))  # run 1 on 2 ranks, run 2 on 1
+  "$src/scripts/run" "$work/scene.yaml" --dem-ranks $ranks "${extra[@]}" >"$work/run$k.log" 2>&1 &
   pids+=($!)
 done
 for k in 1 2; do
@@ -80,6 +88,28 @@ for d in (a_dir, b_dir):  # each run used its own ompi-server and port file
     log = open(d + "/logs/mpm_app.log.cmd").read()
     assert f"file:{d}/logs/ompi-server.uri" in log, log
 print(f"ok: both {want} at step {sa['steps']}, x, v, stress identical; own ompi-server each")
+PY
+fi
+if [[ $case_name == yade ]] && ((${#dirs[@]} == 2)); then
+  two=$(sed -n 's/^run: scene .* results in //p' "$work/run1.log" | head -1)  # run 1: 2 ranks
+  grep -q "on 2 rank(s)" "$work/run1.log" && [[ -d $two ]] || { echo "FAIL: run 1's directory ($two)" >&2; exit 1; }
+  copy=$work/resumed_3ranks
+  cp -r "$two" "$copy"
+  for d in "$copy"/checkpoints/step_*; do
+    n=$((10#${d##*step_}))
+    ((n > 10)) && rm -rf "$d"
+  done
+  rm -f "$copy/summary.json" "$copy/final_state.h5"
+  run_job "$work/resumed.log" --resume "$copy" --dem-ranks 3 --max-steps 30
+  /usr/bin/python3 - "$two" "$copy" <<'PY' || fail "the 2-rank run resumed on 3 ranks differs"
+import sys
+import h5py, numpy as np
+a, b = h5py.File(sys.argv[1] + "/final_state.h5"), h5py.File(sys.argv[2] + "/final_state.h5")
+assert a.attrs["step"] == b.attrs["step"] == 30, (a.attrs["step"], b.attrs["step"])
+for k in ["x", "v", "stress"]:
+    d = np.abs(a[k][:] - b[k][:]).max()
+    assert d == 0.0, f"{k} differs by {d}"
+print("ok: written on 2 DEM ranks, resumed from step 10 on 3: x, v, stress at step 30 identical")
 PY
 fi
 if ((failures)); then echo "concurrent_$case_name: $failures failure(s)" >&2; exit 1; fi

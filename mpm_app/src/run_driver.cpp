@@ -22,6 +22,7 @@
 #include "mpmdem/config/schema.hpp"
 #include "mpmdem/errors.hpp"
 #include "output/checkpoint.hpp"
+#include "output/checkpoint_schedule.hpp"
 #include "output/energy_log.hpp"
 #include "output/hdf5_writer.hpp"
 #include "output/run_directory.hpp"
@@ -150,7 +151,7 @@ class Run {
       if (resume_dir_.empty()) {
         throw RunDirectoryError("--resume latest: '" + dir_ +
                                 "' holds no complete checkpoint (checkpoints/step_*/COMPLETE); "
-                                "set output.checkpoint_interval_steps to write them");
+                                "output.checkpoint_interval_s / _steps write them");
       }
       SolverState state;
       read_mpm_checkpoint(resume_dir_, state, resumed_);
@@ -193,14 +194,20 @@ class Run {
   }
 
   // Both sides save their state; the checkpoint counts once both are done (COMPLETE).
-  void write_checkpoint() {
+  // Returns the wall time it took.
+  double write_checkpoint() {
     require_finite();
+    const double start = wall_time();
     const std::string dir = checkpoint_directory(dir_, solver_->step_count());
     write_mpm_checkpoint(dir, solver_->state(), driver_state());
     solver_->provider().checkpoint(dir + "/dem", solver_->step_count());
     commit_checkpoint(dir_, dir, scene_.output.checkpoints_kept);
+    const double took = wall_time() - start;
+    checkpoint_wall_s_ += took;
+    ++checkpoints_;
     out_ << "[step " << solver_->step_count() << ", t=" << solver_->time() << " s] checkpoint "
-         << dir << std::endl;
+         << dir << " (" << format_seconds(took) << " s)" << std::endl;
+    return took;
   }
 
   // A peer fault (a DEM rank died, an MPI failure): mpm_app saves its own state, without
@@ -295,7 +302,8 @@ class Run {
     }
     print_events();
     observe_column();
-    const std::int64_t every = scene_.output.checkpoint_interval_steps;
+    CheckpointSchedule checkpoints(scene_.output.checkpoint_interval_steps,
+                                   scene_.output.checkpoint_interval_s, wall_time());
 
     Progress progress(out_, scene_.output.progress_interval_s);
     progress.start(solver_->time());
@@ -326,7 +334,10 @@ class Run {
         while (next_frame_ <= t + tol) next_frame_ += frame_interval;
       }
       observe_column();
-      if (every > 0 && solver_->step_count() % every == 0) write_checkpoint();
+      if (checkpoints.due(solver_->step_count(), wall_time())) {
+        const double took = write_checkpoint();
+        checkpoints.written(wall_time(), took);
+      }
       if (progress.due()) progress.update(progress_state());
     }
     progress.print(progress_state());
@@ -536,6 +547,10 @@ class Run {
       sum.analysis.emplace_back("rve_no_contact_points_final",
                                 static_cast<double>(solver_->no_contact_points()));
     }
+    if (checkpoints_ > 0) {  // this process's part of the run (a resumed one: since resuming)
+      sum.analysis.emplace_back("checkpoints", static_cast<double>(checkpoints_));
+      sum.analysis.emplace_back("checkpoint_wall_time_s", checkpoint_wall_s_);
+    }
     if (timings_) {
       timings_->flush();
       for (const auto& kv : timings_->totals()) sum.analysis.push_back(kv);
@@ -580,7 +595,9 @@ class Run {
   std::optional<ColumnCollapseMonitor> column_;
   std::string resume_dir_;  // checkpoint this run continues from ("" for a fresh run)
   DriverState resumed_;
-  double wall_before_ = 0.0;  // wall time of the run before its last resume
+  double wall_before_ = 0.0;        // wall time of the run before its last resume
+  std::int64_t checkpoints_ = 0;    // checkpoints written by this process
+  double checkpoint_wall_s_ = 0.0;  // their wall time, both sides
   double next_frame_ = 0.0;
   double next_energy_ = 0.0;
   double last_dt_ = 0.0;

@@ -139,7 +139,8 @@ struct OutputParams {
   bool hdf5 = true;
   bool rve_costs = false;                      // rve_costs.csv and rve_ranks.csv (remote model)
   double progress_interval_s = 2.0;            // wall time between progress lines
-  std::int64_t checkpoint_interval_steps = 0;  // 0: no checkpoints
+  std::int64_t checkpoint_interval_steps = 0;  // 0: no step-triggered checkpoints
+  double checkpoint_interval_s = 60.0;         // wall time; 0: no time-triggered checkpoints
   int checkpoints_kept = 2;
 };
 

@@ -242,10 +242,21 @@ std::vector<std::string> Solver::take_events() {
 void Solver::step() {
   handle_points_outside_grid();
   const double dt = dt_next_;
-  if (scene_.solver.shape == ShapeKind::kQuadraticBSpline) {
-    step_with<QuadraticBSplineShape>(stencils_quadratic_, dt);
-  } else {
-    step_with<LinearShape>(stencils_linear_, dt);
+  // Remote model: a peer fault in the exchange must not leave step n+1 positions with step
+  // n stresses. Time, step and the energy budget change only once the step succeeded; the
+  // points are copied (reusing the copy's memory) and restored if the step throws.
+  const bool restorable = scene_.constitutive.model == ModelKind::kRemote;
+  if (restorable) step_start_ = p_;
+  const std::int64_t before = step_;
+  try {
+    if (scene_.solver.shape == ShapeKind::kQuadraticBSpline) {
+      step_with<QuadraticBSplineShape>(stencils_quadratic_, dt);
+    } else {
+      step_with<LinearShape>(stencils_linear_, dt);
+    }
+  } catch (...) {
+    if (restorable && step_ == before) p_ = step_start_;  // else the step's state is whole
+    throw;
   }
 }
 

@@ -96,7 +96,9 @@ class Solver {
   Solver(const Scene& scene, SolverState state, std::unique_ptr<ConstitutiveProvider> provider);
   SolverState state() const;
 
-  // One explicit step. Throws SimulationError (the run must stop).
+  // One explicit step. Throws SimulationError (the run must stop). With the remote model a
+  // step that throws leaves the state of the last completed step (the points are restored),
+  // so that mpm_app's fault checkpoint after a failed exchange is one consistent step.
   void step();
 
   double time() const { return time_; }
@@ -145,6 +147,7 @@ class Solver {
 
   Scene scene_;
   Particles p_;
+  Particles step_start_;  // remote model: p_ before the step being taken (restored if it throws)
   std::unique_ptr<ConstitutiveProvider> provider_;
   Grid grid_;
   BoundaryConditions bc_;

@@ -9,9 +9,13 @@ inline packings (empty packing_dir) or when every <packing_dir>/<name>.yade.bz2 
 Otherwise runs scripts/build_packings --config <packing_spec> --out <packing_dir> and checks
 that it produced every packing the scene names. The spec's SHA-256 is kept in
 <packing_dir>/.spec_sha256: when the spec changes, the packings are rebuilt.
+Several runs started together (one checkout, one packing_dir) build the library once: the
+check and the build hold an exclusive flock on <packing_dir>/.lock, so the other runs wait
+for it and then find the library ready.
 Exit codes: 0 ready, 2 the scene names packings that are missing and cannot be built (the
 message says which key to change), 1 the builder failed.
 """
+import fcntl
 import hashlib
 import os
 import subprocess
@@ -40,8 +44,19 @@ def main(scene):
     if not pdir:
         return 0
     pdir = os.path.normpath(os.path.join(base, pdir))
-    missing = [n for n in names if not os.path.exists(os.path.join(pdir, n + ".yade.bz2"))]
     spec = yade.get("packing_spec") or ""
+    if spec:  # buildable: one process at a time checks and builds (the lock is freed at exit)
+        try:
+            os.makedirs(pdir, exist_ok=True)
+            lock = open(os.path.join(pdir, ".lock"), "a")
+        except OSError as e:
+            fail(f"cannot create coupling.yade.packing_dir {pdir} ({scene}): {e}")
+        try:
+            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            print(f"ensure_packings: waiting for another run building into {pdir}", flush=True)
+            fcntl.flock(lock, fcntl.LOCK_EX)
+    missing = [n for n in names if not os.path.exists(os.path.join(pdir, n + ".yade.bz2"))]
     digest, stamp = None, os.path.join(pdir, ".spec_sha256")
     if spec:
         spec_path = os.path.normpath(os.path.join(base, spec))

@@ -197,12 +197,10 @@ class YadeBackend final : public RveBackend {
   }
 
  private:
-  std::filesystem::path rank_dir(const std::filesystem::path& dir) const {
-    return dir / ("rank_" + std::to_string(ctx_.rank));
-  }
-
+  // Checkpoints are per RVE (dir/rve_<id>.*, whichever rank wrote them), so that any rank
+  // count restores them (older ones: dir/rank_<r>/rve_<id>.*, still read).
   void call_dir(const char* method, const std::filesystem::path& dir) {
-    PyObject* r = PyObject_CallMethod(set_, method, "s", rank_dir(dir).string().c_str());
+    PyObject* r = PyObject_CallMethod(set_, method, "s", dir.string().c_str());
     Py_DECREF(checked(r, method));
   }
 

@@ -299,6 +299,7 @@ OutputParams load_output(const Config& cfg) {
   }
   o.progress_interval_s = cfg.number("output.progress_interval_s");
   o.checkpoint_interval_steps = cfg.integer("output.checkpoint_interval_steps");
+  o.checkpoint_interval_s = cfg.number("output.checkpoint_interval_s");
   o.checkpoints_kept = static_cast<int>(cfg.integer("output.checkpoints_kept"));
   return o;
 }

@@ -238,7 +238,16 @@ void add_output_keys(config::Schema& s) {
             "scripts/run --resume RUN continues from the newest complete one); 0: none")
             .def("0")
             .ge(0));
-  s.add(key("output.checkpoints_kept", Type::kInt, "-", "newest complete checkpoints kept")
+  s.add(key("output.checkpoint_interval_s", Type::kDouble, "s",
+            "also write a checkpoint once this much wall time has passed since the last one, "
+            "and at least 49 times the time the last one took, so that they cost <= 2 % of "
+            "the run (mpm_app decides after a step and both sides save that step; with "
+            "checkpoint_interval_steps, whichever comes first); 0: no time-triggered "
+            "checkpoints")
+            .def("60")
+            .ge(0));
+  s.add(key("output.checkpoints_kept", Type::kInt, "-",
+            "newest complete checkpoints kept (older ones are removed)")
             .def("2")
             .ge(1));
   s.add(key("output.progress_interval_s", Type::kDouble, "s",

@@ -128,18 +128,17 @@ TEST(NativeBackend, CheckpointRoundTripAndMigrationAreBitwise) {
   b->restore(dir);
   std::filesystem::remove_all(dir);
   EXPECT_EQ(dem::native::encode(a->rve(0)), dem::native::encode(b->rve(0)));
-  // Migration: RVE 1 moves from `a` to a third backend `c` that owned RVE 2 only.
-  RveReply rc_init[1];
-  auto c = make(2, 1, kP0, rc_init);
+  // Migration: RVE 1 moves from `a` to a third backend `c` that owned none.
+  auto c = make(2, 0, kP0, nullptr);
   std::map<std::uint64_t, std::string> incoming;
   incoming[1] = a->export_rve(1);
-  c->adopt(1, 2, incoming);
+  c->adopt(1, 1, incoming);
   for (int n = 4; n <= 9; ++n) {
     std::vector<RowMajor3> dF = {random_dF(rng), random_dF(rng)};
     step(*a, n, dF, ra);
     step(*b, n, dF, rb);
-    RveReply rcs[2];
-    step(*c, n, {dF[1], dF[0]}, rcs);  // c owns RVEs 1 and 2
+    RveReply rcs[1];
+    step(*c, n, {dF[1]}, rcs);  // c owns RVE 1
     for (int k = 0; k < 2; ++k) EXPECT_TRUE(same_bits(ra[k], rb[k])) << "restart, RVE " << k;
     EXPECT_TRUE(same_bits(ra[1], rcs[0])) << "migrated RVE, step " << n;
     EXPECT_NE(ra[0].stress[0], 0.0);

@@ -87,7 +87,7 @@ TEST(NativeContact, ShearSpringSlidesAtTheCoulombLimit) {
   // |Fs| reaches mu |Fn|, where it stays.
   const Vec3 n(0, 0, 1);
   RveState s = two_spheres(Vec3::Constant(0.02), (2 * kR - kDelta) * n);
-  const double v = 1e-3;
+  const double v = 0.1;  // the spring reaches the cap after ~65 steps
   s.spheres.vel[1] = Vec3(v, 0, 0);
   NeighbourList nl;
   const double kn = kE * kR, ks = kKsKn * kn;
@@ -118,7 +118,7 @@ TEST(NativeContact, ShearSpringTurnsWithARigidRotationOfThePair) {
   // here by 0.1 rad about an axis normal to the contact (orthonormal_axis) and by 0.1 rad
   // about the normal (twist_axis). ScGeom::rotate is first order: error ~ angle * step.
   const Vec3 n0(1, 0, 0), c(0.02, 0.02, 0.02);
-  for (const Vec3 axis : {Vec3(0, 0, 1), Vec3(1, 0, 0)}) {
+  for (const Vec3& axis : {Vec3(0, 0, 1), Vec3(1, 0, 0)}) {
     RveState s = two_spheres(c, (2 * kR - kDelta) * n0);
     NeighbourList nl;
     compute_forces(s, nl);  // the contact exists, without shear force

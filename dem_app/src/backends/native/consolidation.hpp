@@ -2,8 +2,9 @@
 //  * consolidate: drive the cell's diagonal strain rate until the principal stresses reach
 //    `goal` (tension positive) within stress_tol (relative to the largest |goal|, checked
 //    every 100 steps) and the unbalanced force is below unbalanced_tol. YADE uses
-//    PeriTriaxController (a cell with mass); this is a proportional strain-rate servo, so
-//    consolidated states are equivalent, not identical.
+//    PeriTriaxController (a cell with mass); this is a proportional strain-rate servo
+//    (gap / (stiffness bound * 5 dt), at most max_strain_rate), so consolidated states
+//    are equivalent, not identical.
 //  * finish_preparation: mpmdem_packing.finish_preparation exactly: zero velocity gradient,
 //    two DEM steps, velocities zeroed, reference orientations reset.
 #pragma once

@@ -208,7 +208,7 @@ RveState build_cloud(const CloudParams& p) {
       }
     }
     if (!placed) {
-      throw std::runtime_error("native backend: cannot place " + std::to_string(p.n_spheres) +
+      throw std::runtime_error("cannot place " + std::to_string(p.n_spheres) +
                                " spheres at porosity " + std::to_string(p.porosity));
     }
   }

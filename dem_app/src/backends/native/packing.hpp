@@ -25,7 +25,7 @@ void write_packing(const RveState& s, const std::filesystem::path& file);
 struct CloudParams {
   int n_spheres = 60;
   double r_min = 0.92e-3, r_max = 1.38e-3;  // radii uniform in [r_min, r_max] [m]
-  double porosity = 0.65;                   // of the cloud (cell sized to it)
+  double porosity = 0.75;                   // of the cloud (cell sized to it)
   Material material;
   std::uint64_t seed = 1;
 };

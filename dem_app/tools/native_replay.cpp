@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "backends/native/binary_state.hpp"
 #include "backends/native/native_backend.hpp"
 
 int main(int argc, char** argv) {
@@ -91,6 +92,18 @@ int main(int argc, char** argv) {
           static_cast<double>(steps) * p.ns * static_cast<double>(b.rve(0).state.spheres.size());
       std::printf("particle_steps_per_s %.4g coupling_steps %ld wall_s %.4g\n", ps / wall, steps,
                   wall);
+      // Checkpoint / migration cost: the binary state of the RVE, encoded and decoded.
+      const int reps = 1000;
+      std::string blob;
+      const auto e0 = std::chrono::steady_clock::now();
+      for (int i = 0; i < reps; ++i) blob = mpmdem::dem::native::encode(b.rve(0));
+      const auto e1 = std::chrono::steady_clock::now();
+      for (int i = 0; i < reps; ++i) mpmdem::dem::native::decode(blob);
+      const auto e2 = std::chrono::steady_clock::now();
+      std::printf("state_bytes %zu encode_us %.3g decode_us %.3g verlet_rebuilds %lld\n",
+                  blob.size(), 1e6 * std::chrono::duration<double>(e1 - e0).count() / reps,
+                  1e6 * std::chrono::duration<double>(e2 - e1).count() / reps,
+                  static_cast<long long>(b.neighbour_list(0).rebuilds()));
     }
   } catch (const std::exception& e) {
     std::cerr << "native_replay: " << e.what() << "\n";

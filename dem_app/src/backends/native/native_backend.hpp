@@ -51,6 +51,7 @@ class NativeBackend final : public RveBackend {
 
   // For tests and benchmarks: owned RVE k (local index).
   native::RveRecord& rve(std::size_t k) { return rves_[k]; }
+  const native::NeighbourList& neighbour_list(std::size_t k) const { return lists_[k]; }
   // Substeps the rule gives for dF (row-major).
   int n_substeps(const double* dF) const;
   // Apply dF over ns substeps with the velGrad lag corrected (mpmdem_rve.RveSet._burst).

@@ -1,9 +1,12 @@
 // native_replay: one native RVE driven by a dF sequence from a file, outside MPI, for the
 // side-by-side comparison with YADE (tests/integration/native_vs_yade.sh) and benchmarks.
 //   native_replay --packing FILE.native.txt --df FILE [--ns N] [--damping D] [--repeat R]
+//                 [--resident K]
 // FILE: one dF per line (9 numbers, row-major). Prints "init" and "step <n>" lines with the
 // 9 stress components (symmetrised, 17 digits) and the contact count; with --repeat R the
-// sequence is applied R times and the last line reports particle-steps per second.
+// sequence is applied R times and the last lines report particle-steps per second and the
+// binary state's size and encode/decode times; --resident K reports the RSS growth per RVE
+// with K resident RVEs instead.
 #include <Eigen/Core>
 #include <chrono>
 #include <cstdio>
@@ -15,14 +18,27 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include "backends/native/binary_state.hpp"
 #include "backends/native/native_backend.hpp"
+
+namespace {
+// Resident set size of this process [KB] (/proc/self/statm).
+long resident_kb() {
+  std::ifstream statm("/proc/self/statm");
+  long pages_total = 0, pages_resident = 0;
+  statm >> pages_total >> pages_resident;
+  return pages_resident * (sysconf(_SC_PAGESIZE) / 1024);
+}
+}  // namespace
 
 int main(int argc, char** argv) {
   std::string packing, df_file;
   mpmdem::dem::NativeParams p;
   p.ns_fixed = true;
   long repeat = 1;
+  long resident = 0;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i], v = argv[i + 1];
     if (k == "--packing") {
@@ -35,6 +51,8 @@ int main(int argc, char** argv) {
       p.damping = std::stod(v);
     } else if (k == "--repeat") {
       repeat = std::stol(v);
+    } else if (k == "--resident") {
+      resident = std::stol(v);
     } else {
       std::cerr << "native_replay: unknown option " << k << "\n";
       return 2;
@@ -59,6 +77,27 @@ int main(int argc, char** argv) {
       std::vector<double> v(9);
       for (double& x : v) s >> x;
       if (s) dfs.push_back(v);
+    }
+    if (resident > 0) {
+      // Memory per resident RVE: RSS growth with `resident` RVEs of this packing in one
+      // backend (initialised, one coupling step each so the Verlet lists exist).
+      const long before = resident_kb();
+      mpmdem::dem::NativeBackend many(p);
+      mpmdem::dem::BackendContext mctx;
+      mctx.n_rve = static_cast<std::uint64_t>(resident);
+      many.setup(mctx);
+      std::vector<mpmdem::protocol::RveInit> inits(mctx.n_rve);
+      std::vector<mpmdem::protocol::RveReply> replies(mctx.n_rve);
+      std::vector<mpmdem::protocol::RveRequest> reqs(mctx.n_rve);
+      for (auto& q : reqs) std::memcpy(q.dF, dfs.at(0).data(), sizeof q.dF);
+      many.initialise(inits.data(), replies.data());
+      mpmdem::protocol::ControlHeader mh{};
+      mh.step = 1;
+      many.step(mh, reqs.data(), replies.data());
+      const long after = resident_kb();
+      std::printf("resident_rves %ld rss_kb_per_rve %.1f\n", resident,
+                  static_cast<double>(after - before) / static_cast<double>(resident));
+      return 0;
     }
     mpmdem::dem::NativeBackend b(p);
     mpmdem::dem::BackendContext ctx;

@@ -45,7 +45,7 @@ class In {
     get(n);
     if (n > (b_.size() - at_) / sizeof(T)) fail();
     v.resize(n);
-    std::memcpy(static_cast<void*>(v.data()), b_.data() + at_, n * sizeof(T));
+    if (n) std::memcpy(static_cast<void*>(v.data()), b_.data() + at_, n * sizeof(T));
     at_ += n * sizeof(T);
   }
   bool done() const { return at_ == b_.size(); }

@@ -7,10 +7,6 @@
 #                            hostfiles (localhost) must use them and end equal too, and
 #                            so must a run with coupling.rve_order contiguous (the default
 #                            is interleaved: a different RVE on each wire slot).
-#   load_balance.sh native   the tiny block of mpm_native.sh (8 native RVEs, 2 ranks),
-#                            forced rebalancing (threshold 1 %, every step): migrations
-#                            happen and the run ends BITWISE equal to the one without (the
-#                            native binary state continues bit for bit on its new rank).
 #   load_balance.sh yade     the tiny multiscale column (8 YADE RVEs): migrations happen,
 #                            mass is conserved, and runout, final height and E_d/E_p0 agree
 #                            with the run without migrations within the spread that a mere
@@ -23,7 +19,7 @@
 #                            packing of its material point, whichever rank and slot it has).
 # Env: MPMDEM_BIN (build dir), MPMDEM_SRC (source dir).
 set -uo pipefail
-case=${1:?usage: load_balance.sh elastic|native|yade}
+case=${1:?usage: load_balance.sh elastic|yade}
 src=${MPMDEM_SRC:-$(cd "$(dirname "$0")/../.." && pwd)}
 # shellcheck source=common.sh
 source "$src/tests/integration/common.sh"
@@ -71,29 +67,6 @@ for other in ("lb", "hosts", "contiguous"):
         assert np.array_equal(np.asarray(a[k]), np.asarray(b[k])), f"{other}: {k} differs"
 print(f"load_balance elastic: {lb['rebalances']} migrations, final state bitwise equal; "
       "hostfiles used; contiguous RVE order bitwise equal too")
-PY
-  exit $?
-fi
-
-if [[ $case == native ]]; then
-  sed -e 's/end_time: 2.0e-3/end_time: 1.5e-2/' "$src/tests/integration/native_block_tiny.yaml" \
-    >"$work/plain.yaml"
-  sed -e "s/^  backend: native/  backend: native\n${lb_block//MININT/1}/" "$work/plain.yaml" \
-    >"$work/lb.yaml"
-  run plain "$work/plain.yaml"
-  run lb "$work/lb.yaml"
-  /usr/bin/python3 - "$work" <<'PY'
-import json, sys
-import h5py, numpy as np
-w = sys.argv[1]
-lb, plain = (json.load(open(f"{w}/{n}/summary.json")) for n in ("lb", "plain"))
-assert lb["status"] == plain["status"] == "complete", (lb["status"], plain["status"])
-assert lb["rebalances"] >= 1, f"only {lb['rebalances']} rebalances"
-assert plain["rebalances"] == 0
-a, b = h5py.File(f"{w}/lb/final_state.h5"), h5py.File(f"{w}/plain/final_state.h5")
-for k in ("x", "v", "stress", "F", "mass"):
-    assert np.array_equal(np.asarray(a[k]), np.asarray(b[k])), f"lb: {k} differs"
-print(f"load_balance native: {lb['rebalances']} migrations, final state bitwise equal")
 PY
   exit $?
 fi

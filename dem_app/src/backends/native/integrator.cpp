@@ -24,10 +24,13 @@ bool update_contact(RveState& s, std::size_t k, bool is_new) {
   auto& c = s.contacts;
   auto& sp = s.spheres;
   const std::uint32_t a = c.id1[k], b = c.id2[k];
-  const Vec3 x2 = sp.pos[b] + s.cell.shift(c.cell[k]);
-  const ScGeom g =
-      sc_geom(sp.pos[a], x2, sp.radius[a], sp.radius[b], sp.vel[a], sp.vel[b], sp.ang_vel[a],
-              sp.ang_vel[b], s.cell.shift_vel(c.cell[k]), c.normal[k], is_new, s.dt);
+  // Most contacts lie inside the cell (cellDist 0): no image shift to compute (adding the
+  // zero shift would change no bit).
+  const bool image = c.cell[k] != Eigen::Vector3i::Zero();
+  const Vec3 x2 = image ? Vec3(sp.pos[b] + s.cell.shift(c.cell[k])) : sp.pos[b];
+  const Vec3 shift_vel = image ? s.cell.shift_vel(c.cell[k]) : Vec3::Zero();
+  const ScGeom g = sc_geom(sp.pos[a], x2, sp.radius[a], sp.radius[b], sp.vel[a], sp.vel[b],
+                           sp.ang_vel[a], sp.ang_vel[b], shift_vel, c.normal[k], is_new, s.dt);
   c.normal[k] = g.normal;
   c.penetration[k] = g.penetration;
   if (g.penetration < 0) return false;
@@ -63,7 +66,10 @@ void compute_forces(RveState& s, NeighbourList& nl) {
   for (std::size_t p = 0; p < nl.n_pairs(); ++p) {
     if (nl.pair_in_contact(p)) continue;
     const std::uint32_t a = nl.pair_i(p), b = nl.pair_j(p);
-    const Vec3 d = sp.pos[b] + s.cell.shift(nl.pair_cell(p)) - sp.pos[a];
+    const Eigen::Vector3i& cell = nl.pair_cell(p);
+    const Vec3 d =
+        (cell == Eigen::Vector3i::Zero() ? sp.pos[b] : Vec3(sp.pos[b] + s.cell.shift(cell))) -
+        sp.pos[a];
     const double r = sp.radius[a] + sp.radius[b];
     if (r * r - d.squaredNorm() < 0) continue;  // Ig2_Sphere_Sphere_ScGeom's test
     const FrictPhys phys = frict_phys(m.young, sp.radius[a], m.ks_kn, m.friction_angle, m.young,
@@ -85,6 +91,7 @@ void newton(RveState& s, double damping) {
   const Eigen::Matrix3d dvg = cell.vel_grad - prev;
   const Eigen::Matrix3d rot = 0.5 * (dvg - dvg.transpose());
   const Vec3 dspin(-rot(1, 2), rot(0, 2), -rot(0, 1));
+  const bool dvg_nonzero = dvg != Eigen::Matrix3d::Zero();
   auto& sp = s.spheres;
   for (std::size_t i = 0; i < sp.size(); ++i) {
     const Vec3 fluct = sp.vel[i] - prev * sp.pos[i];
@@ -95,8 +102,8 @@ void newton(RveState& s, double damping) {
     Vec3 ang = sp.torque[i] / sp.inertia[i];
     cundall_damp(damping, dt, sp.ang_vel[i], ang);
     sp.ang_vel[i] += dt * ang;
-    // leapfrogTranslate
-    sp.vel[i] += dvg * sp.pos[i];
+    // leapfrogTranslate (dvg is zero while the cell's gradient does not change)
+    if (dvg_nonzero) sp.vel[i] += dvg * sp.pos[i];
     sp.pos[i] += sp.vel[i] * dt;
     // leapfrogSphericalRotate
     sp.ang_vel[i] += dspin;

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "backends/elastic_backend.hpp"
+#include "backends/native/native_backend.hpp"
 #ifdef MPMDEM_HAVE_YADE
 #include "backends/yade_backend.hpp"
 #endif
@@ -12,16 +13,16 @@ namespace mpmdem::dem {
 
 std::vector<std::string> available_backends() {
 #ifdef MPMDEM_HAVE_YADE
-  return {"elastic", "yade"};
+  return {"elastic", "native", "yade"};
 #else
-  return {"elastic"};
+  return {"elastic", "native"};
 #endif
 }
 
 std::uint32_t backend_outputs(const std::string& name) {
   if (name == "elastic") return kElasticOutputs;
   // A DEM packing defines every output of the protocol.
-  if (name == "yade") return protocol::kKnownOutputs;
+  if (name == "yade" || name == "native") return protocol::kKnownOutputs;
   return 0;
 }
 
@@ -29,6 +30,7 @@ std::unique_ptr<RveBackend> make_backend(const std::string& name, const config::
                                          const BackendContext& ctx) {
   (void)ctx;
   if (name == "elastic") return make_elastic_backend(cfg);
+  if (name == "native") return make_native_backend(cfg);
 #ifdef MPMDEM_HAVE_YADE
   if (name == "yade") return make_yade_backend(cfg, ctx);
 #endif

@@ -1,5 +1,5 @@
-// Creating a backend by name (dem_app --backend NAME): elastic always, yade when built
-// with MPMDEM_HAVE_YADE.
+// Creating a backend by name (dem_app --backend NAME): elastic and native always, yade when
+// built with MPMDEM_HAVE_YADE.
 #pragma once
 
 #include <cstdint>

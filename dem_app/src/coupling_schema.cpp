@@ -3,6 +3,7 @@
 #include "coupling_schema.hpp"
 
 #include "mpmdem/protocol.hpp"
+#include "native_schema.hpp"
 #include "yade_schema.hpp"
 
 namespace mpmdem {
@@ -23,7 +24,7 @@ void add_coupling_keys(config::Schema& s) {
             "the hashes differ"));
   s.add(key("coupling.backend", Type::kEnum, "", "RVE backend the DEM server must run")
             .def("elastic")
-            .one_of({"elastic", "yade"}));
+            .one_of({"elastic", "yade", "native"}));
   s.add(key("coupling.outputs", Type::kStringList, "",
             "per-RVE outputs the server computes and returns (only these)")
             .def("[]")
@@ -89,6 +90,7 @@ void add_coupling_keys(config::Schema& s) {
             .ge(0)
             .lt(0.5));
   add_yade_keys(s);
+  add_native_keys(s);
 }
 
 const config::Schema& coupling_schema() {

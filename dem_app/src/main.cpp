@@ -1,7 +1,7 @@
 // dem_app: the RVE server. Reads only `config_version` and the `coupling:` section of the
 // scene, opens an MPI port, serves one mpm_app until it shuts down.
 //
-//   mpirun --ompi-server file:URI -np N dem_app --backend elastic|yade --scene FILE
+//   mpirun --ompi-server file:URI -np N dem_app --backend elastic|native|yade --scene FILE
 //          --run-dir DIR [--restore CHECKPOINT_DIR] [--timeout S] [--idle-timeout S]
 //   dem_app --print-backend FILE     coupling.backend of a scene (no MPI; for scripts/run)
 //   dem_app --print-port-file FILE   coupling.port_file of a scene (no MPI; for scripts/run)
@@ -27,7 +27,7 @@
 namespace {
 
 constexpr const char* kUsage =
-    "usage: dem_app --backend elastic|yade --scene FILE --run-dir DIR\n"
+    "usage: dem_app --backend elastic|native|yade --scene FILE --run-dir DIR\n"
     "               [--restore CHECKPOINT_DIR] [--timeout S] [--idle-timeout S]\n"
     "  --backend   RVE backend; must equal coupling.backend of the scene\n"
     "  --scene     scene YAML; only config_version and coupling: are read\n"

@@ -1,0 +1,141 @@
+// Binary state of a native RVE: see binary_state.hpp.
+#include "backends/native/binary_state.hpp"
+
+#include <cstring>
+#include <stdexcept>
+#include <type_traits>
+
+namespace mpmdem::dem::native {
+
+namespace {
+
+constexpr char kMagic[8] = {'M', 'P', 'M', 'D', 'N', 'A', 'T', '1'};
+
+class Out {
+ public:
+  template <typename T>
+  void put(const T& v) {
+    static_assert(std::is_standard_layout_v<T>);
+    buf_.append(reinterpret_cast<const char*>(&v), sizeof v);
+  }
+  template <typename T>
+  void put_vector(const std::vector<T>& v) {
+    static_assert(std::is_standard_layout_v<T>);
+    put<std::uint64_t>(v.size());
+    buf_.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+  }
+  std::string take() { return std::move(buf_); }
+
+ private:
+  std::string buf_;
+};
+
+class In {
+ public:
+  explicit In(const std::string& b) : b_(b) {}
+  template <typename T>
+  void get(T& v) {
+    need(sizeof v);
+    std::memcpy(static_cast<void*>(&v), b_.data() + at_, sizeof v);
+    at_ += sizeof v;
+  }
+  template <typename T>
+  void get_vector(std::vector<T>& v) {
+    std::uint64_t n = 0;
+    get(n);
+    if (n > (b_.size() - at_) / sizeof(T)) fail();
+    v.resize(n);
+    if (n) std::memcpy(static_cast<void*>(v.data()), b_.data() + at_, n * sizeof(T));
+    at_ += n * sizeof(T);
+  }
+  bool done() const { return at_ == b_.size(); }
+  [[noreturn]] static void fail() {
+    throw std::runtime_error("native backend: truncated or invalid RVE state");
+  }
+
+ private:
+  void need(std::size_t n) const {
+    if (b_.size() - at_ < n) fail();
+  }
+  const std::string& b_;
+  std::size_t at_ = 0;
+};
+
+template <typename Stream, typename Cell>
+void cell_fields(Stream& s, Cell& c) {
+  if constexpr (std::is_same_v<Stream, Out>) {
+    s.put(c.hsize), s.put(c.trsf), s.put(c.vel_grad), s.put(c.next_vel_grad);
+    s.put(c.vel_grad_changed), s.put(c.prev_vel_grad), s.put(c.vgrad_times_prev_h);
+  } else {
+    s.get(c.hsize), s.get(c.trsf), s.get(c.vel_grad), s.get(c.next_vel_grad);
+    s.get(c.vel_grad_changed), s.get(c.prev_vel_grad), s.get(c.vgrad_times_prev_h);
+  }
+}
+
+}  // namespace
+
+std::string encode(const RveRecord& r) {
+  Out o;
+  for (char c : kMagic) o.put(c);
+  const RveState& s = r.state;
+  cell_fields(o, s.cell);
+  o.put(s.material);
+  o.put(s.dt);
+  o.put(s.iter);
+  const Spheres& sp = s.spheres;
+  o.put_vector(sp.radius), o.put_vector(sp.mass), o.put_vector(sp.inertia);
+  o.put_vector(sp.pos), o.put_vector(sp.vel), o.put_vector(sp.ang_vel);
+  o.put_vector(sp.ori), o.put_vector(sp.ref_ori);
+  o.put_vector(sp.force), o.put_vector(sp.torque);
+  const Contacts& c = s.contacts;
+  o.put_vector(c.id1), o.put_vector(c.id2), o.put_vector(c.cell);
+  o.put_vector(c.normal), o.put_vector(c.shear_force), o.put_vector(c.normal_force);
+  o.put_vector(c.kn), o.put_vector(c.ks), o.put_vector(c.tan_phi), o.put_vector(c.penetration);
+  o.put(r.point);
+  o.put(r.p0);
+  o.put(r.tilings);
+  o.put_vector(std::vector<char>(r.packing.begin(), r.packing.end()));
+  return o.take();
+}
+
+RveRecord decode(const std::string& blob) {
+  In in(blob);
+  char magic[8];
+  for (char& c : magic) in.get(c);
+  if (std::memcmp(magic, kMagic, sizeof magic) != 0) In::fail();
+  RveRecord r;
+  RveState& s = r.state;
+  cell_fields(in, s.cell);
+  in.get(s.material);
+  in.get(s.dt);
+  in.get(s.iter);
+  Spheres& sp = s.spheres;
+  in.get_vector(sp.radius), in.get_vector(sp.mass), in.get_vector(sp.inertia);
+  in.get_vector(sp.pos), in.get_vector(sp.vel), in.get_vector(sp.ang_vel);
+  in.get_vector(sp.ori), in.get_vector(sp.ref_ori);
+  in.get_vector(sp.force), in.get_vector(sp.torque);
+  Contacts& c = s.contacts;
+  in.get_vector(c.id1), in.get_vector(c.id2), in.get_vector(c.cell);
+  in.get_vector(c.normal), in.get_vector(c.shear_force), in.get_vector(c.normal_force);
+  in.get_vector(c.kn), in.get_vector(c.ks), in.get_vector(c.tan_phi), in.get_vector(c.penetration);
+  in.get(r.point);
+  in.get(r.p0);
+  in.get(r.tilings);
+  std::vector<char> name;
+  in.get_vector(name);
+  r.packing.assign(name.begin(), name.end());
+  const std::size_t n = sp.radius.size(), m = c.id1.size();
+  const bool consistent =
+      sp.mass.size() == n && sp.inertia.size() == n && sp.pos.size() == n && sp.vel.size() == n &&
+      sp.ang_vel.size() == n && sp.ori.size() == n && sp.ref_ori.size() == n &&
+      sp.force.size() == n && sp.torque.size() == n && c.id2.size() == m && c.cell.size() == m &&
+      c.normal.size() == m && c.shear_force.size() == m && c.normal_force.size() == m &&
+      c.kn.size() == m && c.ks.size() == m && c.tan_phi.size() == m && c.penetration.size() == m;
+  if (!consistent || !in.done()) In::fail();
+  for (std::size_t k = 0; k < m; ++k) {
+    if (c.id1[k] >= n || c.id2[k] >= n) In::fail();
+  }
+  return r;
+}
+
+}  // namespace mpmdem::dem::native

@@ -1,0 +1,27 @@
+// The compact binary state of one native RVE, for checkpoints and load-balance migration
+// (RveBackend::export_rve / adopt): raw little-endian doubles of every field, so a restored
+// or migrated RVE continues bit for bit as it would have where it was (the Verlet list is
+// not saved: it is rebuilt, which changes no result).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "backends/native/rve_state.hpp"
+
+namespace mpmdem::dem::native {
+
+// What the backend keeps per RVE besides the mechanics.
+struct RveRecord {
+  RveState state;
+  std::uint64_t point = 0;  // material point (names its packing draw)
+  double p0 = 1.0;          // initial mean pressure magnitude [Pa] (explosion threshold)
+  std::string packing;      // packing name, empty for a built cloud
+  std::int64_t tilings = 0;
+};
+
+std::string encode(const RveRecord& r);
+// Throws std::runtime_error on a blob that is not a native RVE state.
+RveRecord decode(const std::string& blob);
+
+}  // namespace mpmdem::dem::native

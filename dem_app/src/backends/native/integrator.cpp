@@ -1,0 +1,128 @@
+// One DEM step in YADE's order: see integrator.hpp.
+#include "backends/native/integrator.hpp"
+
+#include <cmath>
+
+#include "backends/native/contact_law.hpp"
+
+namespace mpmdem::dem::native {
+
+namespace {
+
+double sign(double x) {
+  return x > 0 ? 1.0 : (x < 0 ? -1.0 : 0.0);
+}
+
+// NewtonIntegrator::cundallDamp2nd.
+void cundall_damp(double damping, double dt, const Vec3& vel, Vec3& accel) {
+  for (int i = 0; i < 3; ++i)
+    accel[i] *= 1 - damping * sign(accel[i] * (vel[i] + 0.5 * dt * accel[i]));
+}
+
+// Updates contact k with ScGeom + CundallStrack; false when it opened (YADE erases it).
+bool update_contact(RveState& s, std::size_t k, bool is_new) {
+  auto& c = s.contacts;
+  auto& sp = s.spheres;
+  const std::uint32_t a = c.id1[k], b = c.id2[k];
+  // Most contacts lie inside the cell (cellDist 0): no image shift to compute (adding the
+  // zero shift would change no bit).
+  const bool image = c.cell[k] != Eigen::Vector3i::Zero();
+  const Vec3 x2 = image ? Vec3(sp.pos[b] + s.cell.shift(c.cell[k])) : sp.pos[b];
+  const Vec3 shift_vel = image ? s.cell.shift_vel(c.cell[k]) : Vec3::Zero();
+  const ScGeom g = sc_geom(sp.pos[a], x2, sp.radius[a], sp.radius[b], sp.vel[a], sp.vel[b],
+                           sp.ang_vel[a], sp.ang_vel[b], shift_vel, c.normal[k], is_new, s.dt);
+  c.normal[k] = g.normal;
+  c.penetration[k] = g.penetration;
+  if (g.penetration < 0) return false;
+  const FrictPhys phys{c.kn[k], c.ks[k], c.tan_phi[k]};
+  const Vec3 f = cundall_strack(g, phys, c.normal_force[k], c.shear_force[k]);
+  sp.force[a] += f;
+  sp.force[b] -= f;
+  sp.torque[a] += (sp.radius[a] - 0.5 * g.penetration) * g.normal.cross(f);
+  sp.torque[b] += (sp.radius[b] - 0.5 * g.penetration) * g.normal.cross(f);
+  return true;
+}
+
+}  // namespace
+
+void compute_forces(RveState& s, NeighbourList& nl) {
+  auto& sp = s.spheres;
+  for (std::size_t i = 0; i < sp.size(); ++i) {
+    sp.force[i].setZero();
+    sp.torque[i].setZero();
+  }
+  nl.ensure(s);
+  auto& c = s.contacts;
+  for (std::size_t k = 0; k < c.size();) {
+    if (update_contact(s, k, false)) {
+      ++k;
+      continue;
+    }
+    const std::size_t last = c.size() - 1;
+    nl.contact_removed(k, last);
+    c.swap_remove(k);
+  }
+  const Material& m = s.material;
+  for (std::size_t p = 0; p < nl.n_pairs(); ++p) {
+    if (nl.pair_in_contact(p)) continue;
+    const std::uint32_t a = nl.pair_i(p), b = nl.pair_j(p);
+    const Eigen::Vector3i& cell = nl.pair_cell(p);
+    const Vec3 d =
+        (cell == Eigen::Vector3i::Zero() ? sp.pos[b] : Vec3(sp.pos[b] + s.cell.shift(cell))) -
+        sp.pos[a];
+    const double r = sp.radius[a] + sp.radius[b];
+    if (r * r - d.squaredNorm() < 0) continue;  // Ig2_Sphere_Sphere_ScGeom's test
+    const FrictPhys phys = frict_phys(m.young, sp.radius[a], m.ks_kn, m.friction_angle, m.young,
+                                      sp.radius[b], m.ks_kn, m.friction_angle);
+    const std::size_t k = c.add(a, b, nl.pair_cell(p), phys.kn, phys.ks, phys.tan_phi);
+    nl.contact_added(p, k);
+    if (!update_contact(s, k, true)) {
+      nl.contact_removed(k, k);
+      c.swap_remove(k);
+    }
+  }
+}
+
+void newton(RveState& s, double damping) {
+  auto& cell = s.cell;
+  cell.activate_next();
+  const double dt = s.dt;
+  const Eigen::Matrix3d& prev = cell.prev_vel_grad;
+  const Eigen::Matrix3d dvg = cell.vel_grad - prev;
+  const Eigen::Matrix3d rot = 0.5 * (dvg - dvg.transpose());
+  const Vec3 dspin(-rot(1, 2), rot(0, 2), -rot(0, 1));
+  const bool dvg_nonzero = dvg != Eigen::Matrix3d::Zero();
+  auto& sp = s.spheres;
+  for (std::size_t i = 0; i < sp.size(); ++i) {
+    const Vec3 fluct = sp.vel[i] - prev * sp.pos[i];
+    Vec3 lin = sp.force[i] / sp.mass[i];
+    cundall_damp(damping, dt, fluct, lin);
+    lin += prev * sp.vel[i];  // convective term of homoDeform = 2
+    sp.vel[i] += dt * lin;
+    Vec3 ang = sp.torque[i] / sp.inertia[i];
+    cundall_damp(damping, dt, sp.ang_vel[i], ang);
+    sp.ang_vel[i] += dt * ang;
+    // leapfrogTranslate (dvg is zero while the cell's gradient does not change)
+    if (dvg_nonzero) sp.vel[i] += dvg * sp.pos[i];
+    sp.pos[i] += sp.vel[i] * dt;
+    // leapfrogSphericalRotate
+    sp.ang_vel[i] += dspin;
+    const double angle2 = sp.ang_vel[i].squaredNorm();
+    if (angle2 != 0) {
+      const double angle = std::sqrt(angle2);
+      const Quat q(Eigen::AngleAxisd(angle * dt, sp.ang_vel[i] / angle));
+      sp.ori[i] = q * sp.ori[i];
+    }
+    sp.ori[i].normalize();
+  }
+  cell.prev_vel_grad = cell.vel_grad;
+}
+
+void dem_step(RveState& s, NeighbourList& nl, double damping) {
+  s.cell.integrate_and_update(s.dt);
+  compute_forces(s, nl);
+  newton(s, damping);
+  ++s.iter;
+}
+
+}  // namespace mpmdem::dem::native

@@ -1,0 +1,329 @@
+// The native RVE backend: see native_backend.hpp.
+#include "backends/native/native_backend.hpp"
+
+#include <Eigen/LU>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <random>
+#include <stdexcept>
+
+#include "backends/native/cell_regularisation.hpp"
+#include "backends/native/consolidation.hpp"
+#include "backends/native/integrator.hpp"
+#include "backends/native/measures.hpp"
+#include "backends/native/packing.hpp"
+
+namespace mpmdem::dem {
+
+namespace {
+
+using RowMajor3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
+using native::RveRecord;
+constexpr char kCheckpointMagic[8] = {'M', 'P', 'M', 'D', 'N', 'C', 'K', '1'};
+constexpr double kTable1RadiusMin = 0.92e-3, kTable1RadiusMax = 1.38e-3;  // [m]
+
+std::int32_t as_int(protocol::RveStatus s) {
+  return static_cast<std::int32_t>(s);
+}
+
+}  // namespace
+
+void NativeBackend::setup(const BackendContext& ctx) {
+  ctx_ = ctx;
+  rves_.clear();
+  lists_.clear();
+  last_reply_.clear();
+}
+
+RveRecord NativeBackend::make_rve(std::uint64_t point, double pressure) const {
+  (void)pressure;
+  RveRecord r;
+  r.point = point;
+  if (p_.packings.empty()) {
+    native::CloudParams c;
+    c.n_spheres = p_.inline_spheres;
+    c.r_min = kTable1RadiusMin;
+    c.r_max = kTable1RadiusMax;
+    c.material.friction_angle = std::atan(0.518);
+    c.seed = static_cast<std::uint64_t>(p_.seed) + point;
+    r.state = native::build_cloud(c);
+    return r;
+  }
+  std::size_t pick = 0;
+  if (p_.packings.size() > 1) {
+    std::mt19937_64 rng(static_cast<std::uint64_t>(p_.seed) * 1000003u + point);
+    pick = static_cast<std::size_t>(rng() % p_.packings.size());
+  }
+  r.packing = p_.packings[pick];
+  r.state = native::read_packing(std::filesystem::path(p_.packing_dir) /
+                                 (r.packing + native::kPackingExtension));
+  return r;
+}
+
+void NativeBackend::initialise(const protocol::RveInit* init, protocol::RveReply* reply) {
+  rves_.clear();
+  lists_.clear();
+  last_reply_.clear();
+  fault_.clear();
+  native::ConsolidationParams cp;
+  cp.stress_tol = p_.consolidation_tol;
+  cp.unbalanced_tol = p_.consolidation_unbalanced;
+  cp.max_steps = p_.consolidation_max_steps;
+  cp.damping = p_.damping;
+  for (std::size_t k = 0; k < ctx_.n_rve; ++k) {
+    const Eigen::Vector3d goal(init[k].stress[0], init[k].stress[4], init[k].stress[8]);
+    const double mean = goal.sum() / 3.0;
+    rves_.push_back(make_rve(init[k].point, -mean));
+    lists_.emplace_back(p_.verlet_skin);
+    RveRecord& r = rves_.back();
+    if (goal.cwiseAbs().maxCoeff() > 0) native::consolidate(r.state, lists_.back(), goal, cp);
+    native::finish_preparation(r.state, lists_.back(), p_.damping);
+    r.p0 = std::max(std::abs(mean), 1.0);
+    fill_reply(k, as_int(protocol::RveStatus::kOk),
+               static_cast<std::int32_t>(r.state.spheres.size()), reply[k]);
+    if (reply[k].status == as_int(protocol::RveStatus::kNonFinite)) {
+      fault_ += (fault_.empty() ? "" : "; ") + std::string("RVE ") +
+                std::to_string(ctx_.first_rve + k) + " step 0: non-finite values";
+    }
+  }
+}
+
+int NativeBackend::n_substeps(const double* dF) const {
+  if (p_.ns_fixed) return p_.ns;
+  double g = 0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) g = std::max(g, std::abs(dF[3 * i + j] - (i == j ? 1.0 : 0.0)));
+  const int ns = static_cast<int>(std::ceil(p_.ns_factor * g));
+  return std::max(p_.ns_min, std::min(p_.ns_max, ns));
+}
+
+void NativeBackend::burst(std::size_t k, const double* dF, int ns) {
+  native::RveState& s = rves_[k].state;
+  const double dt = s.dt;
+  const Eigen::Matrix3d target = Eigen::Map<const RowMajor3>(dF) * s.cell.trsf;
+  const Eigen::Matrix3d id = Eigen::Matrix3d::Identity();
+  for (int j = 1; j <= ns; ++j) {
+    const int remaining = ns - j;
+    if (j == 1 || remaining == 1) {
+      // The gradient active during substep j is the pending one: predict the cell after j
+      // and set the next one, uniform over the rest (j = 1) or exact (j = ns - 1).
+      const Eigen::Matrix3d l = s.cell.pending_vel_grad();
+      const Eigen::Matrix3d after = (id + l * dt) * s.cell.trsf;
+      const Eigen::Matrix3d next = (target * after.inverse() - id) / (remaining * dt);
+      s.cell.set_vel_grad(next);
+    }
+    native::dem_step(s, lists_[k], p_.damping);
+  }
+}
+
+void NativeBackend::regularise(std::size_t k, std::uint64_t step) {
+  native::flip_cell(rves_[k].state, lists_[k]);
+  if (step % 10) return;
+  if (native::tile_if_thin(rves_[k].state, lists_[k]) >= 0) ++rves_[k].tilings;
+}
+
+void NativeBackend::fill_reply(std::size_t k, std::int32_t status, std::int32_t n_sub,
+                               protocol::RveReply& reply) const {
+  std::memset(&reply, 0, sizeof reply);
+  const native::RveState& s = rves_[k].state;
+  const bool contacts = s.contacts.size() > 0;
+  if (!contacts && status == as_int(protocol::RveStatus::kOk)) {
+    status = as_int(protocol::RveStatus::kNoContacts);
+  }
+  if (status == as_int(protocol::RveStatus::kOk)) {
+    const Eigen::Matrix3d sig = native::love_weber_stress(s);
+    const RowMajor3 sym = 0.5 * (sig + sig.transpose());
+    if (!sym.allFinite()) {
+      status = as_int(protocol::RveStatus::kNonFinite);
+    } else {
+      Eigen::Map<RowMajor3>(reply.stress) = sym;
+      reply.stiffness = p_.stiffness ? native::stiffness_bound(s) : 0.0;
+    }
+  }
+  const std::uint32_t o = ctx_.outputs;
+  if (status == as_int(protocol::RveStatus::kOk) ||
+      status == as_int(protocol::RveStatus::kNoContacts)) {
+    if (o & protocol::kOutputRotation) {
+      const Eigen::Vector3d rot = native::mean_rotation(s);
+      for (int i = 0; i < 3; ++i) reply.rotation[i] = rot[i];
+    }
+    if (o & protocol::kOutputPorosity) reply.porosity = native::porosity(s);
+    if (o & protocol::kOutputCoordination) reply.coordination = native::coordination(s);
+    if ((o & protocol::kOutputUnbalancedForce) && contacts) {
+      reply.unbalanced_force = native::unbalanced_force(s);
+    }
+  }
+  reply.status = status;
+  reply.n_substeps = n_sub;
+}
+
+void NativeBackend::step(const protocol::ControlHeader& header, const protocol::RveRequest* req,
+                         protocol::RveReply* reply) {
+  using Clock = std::chrono::steady_clock;
+  step_no_ = header.step;
+  fault_.clear();
+  for (std::size_t k = 0; k < rves_.size(); ++k) {
+    const auto t0 = Clock::now();
+    const std::uint64_t gid = ctx_.first_rve + k;
+    const auto cached = last_reply_.find(gid);
+    if ((req[k].flags & protocol::kFlagSkip) && cached != last_reply_.end()) {
+      reply[k] = cached->second;
+      reply[k].n_substeps = 0;
+      reply[k].cost_s = std::chrono::duration<double>(Clock::now() - t0).count();
+      continue;
+    }
+    int ns = 0;
+    if (!(req[k].flags & (protocol::kFlagQueryOnly | protocol::kFlagSkip))) {
+      ns = n_substeps(req[k].dF);
+      burst(k, req[k].dF, ns);
+    }
+    const native::RveState& s = rves_[k].state;
+    std::int32_t status = as_int(protocol::RveStatus::kOk);
+    const double ke = native::kinetic_energy(s);
+    if (!std::isfinite(ke)) {
+      status = as_int(protocol::RveStatus::kNonFinite);
+    } else if (ke / s.cell.volume() > p_.ke_threshold * rves_[k].p0) {
+      status = as_int(protocol::RveStatus::kExploding);
+    }
+    regularise(k, header.step);
+    fill_reply(k, status, ns, reply[k]);
+    reply[k].cost_s = std::chrono::duration<double>(Clock::now() - t0).count();
+    last_reply_[gid] = reply[k];
+    if (reply[k].status == as_int(protocol::RveStatus::kNonFinite) ||
+        reply[k].status == as_int(protocol::RveStatus::kExploding)) {
+      fault_ += (fault_.empty() ? "" : "; ") + std::string("RVE ") + std::to_string(gid) +
+                " step " + std::to_string(header.step) + ": " +
+                (reply[k].status == as_int(protocol::RveStatus::kNonFinite)
+                     ? "non-finite values"
+                     : "exploding kinetic energy") +
+                " (kinetic energy " + std::to_string(ke) + " J)";
+    }
+  }
+}
+
+void NativeBackend::checkpoint(const std::filesystem::path& dir) {
+  const auto file = dir / ("native_rank" + std::to_string(ctx_.rank) + ".bin");
+  std::ofstream out(file, std::ios::binary | std::ios::trunc);
+  if (!out) throw std::runtime_error("cannot write native checkpoint " + file.string());
+  out.write(kCheckpointMagic, sizeof kCheckpointMagic);
+  const std::uint64_t count = rves_.size();
+  out.write(reinterpret_cast<const char*>(&count), sizeof count);
+  for (std::size_t k = 0; k < rves_.size(); ++k) {
+    const std::string blob = native::encode(rves_[k]);
+    const std::uint64_t head[2] = {ctx_.first_rve + k, blob.size()};
+    out.write(reinterpret_cast<const char*>(head), sizeof head);
+    out.write(blob.data(), static_cast<std::streamsize>(blob.size()));
+    lists_[k].invalidate();  // continue as a restart from this file would (same rebuilds)
+  }
+  // Replies after a checkpoint come from the RVE states, here as in a resumed run.
+  last_reply_.clear();
+  if (!out) throw std::runtime_error("error while writing native checkpoint " + file.string());
+}
+
+void NativeBackend::restore(const std::filesystem::path& dir) {
+  std::vector<bool> found(ctx_.n_rve, false);
+  rves_.assign(ctx_.n_rve, RveRecord{});
+  lists_.assign(ctx_.n_rve, native::NeighbourList(p_.verlet_skin));
+  last_reply_.clear();
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("native_rank", 0) != 0 || entry.path().extension() != ".bin") continue;
+    std::ifstream in(entry.path(), std::ios::binary);
+    char magic[sizeof kCheckpointMagic] = {};
+    std::uint64_t count = 0;
+    in.read(magic, sizeof magic);
+    in.read(reinterpret_cast<char*>(&count), sizeof count);
+    if (!in || std::memcmp(magic, kCheckpointMagic, sizeof magic) != 0) {
+      throw std::runtime_error(entry.path().string() + " is not a native-backend checkpoint");
+    }
+    for (std::uint64_t i = 0; i < count; ++i) {
+      std::uint64_t head[2] = {0, 0};
+      in.read(reinterpret_cast<char*>(head), sizeof head);
+      std::string blob(head[1], '\0');
+      in.read(blob.data(), static_cast<std::streamsize>(blob.size()));
+      if (!in) throw std::runtime_error(entry.path().string() + " is truncated");
+      if (head[0] >= ctx_.first_rve && head[0] < ctx_.first_rve + ctx_.n_rve) {
+        rves_[head[0] - ctx_.first_rve] = native::decode(blob);
+        found[head[0] - ctx_.first_rve] = true;
+      }
+    }
+  }
+  for (std::size_t i = 0; i < found.size(); ++i) {
+    if (!found[i]) {
+      throw std::runtime_error("no native checkpoint in " + dir.string() + " holds RVE " +
+                               std::to_string(ctx_.first_rve + i) +
+                               ": restore with the same RVE count");
+    }
+  }
+}
+
+std::string NativeBackend::export_rve(std::uint64_t gid) {
+  if (gid < ctx_.first_rve || gid >= ctx_.first_rve + rves_.size()) {
+    throw std::logic_error("native backend: export of RVE " + std::to_string(gid) +
+                           " that this rank does not own");
+  }
+  lists_[gid - ctx_.first_rve].invalidate();  // as on the adopting rank
+  return native::encode(rves_[gid - ctx_.first_rve]);
+}
+
+void NativeBackend::adopt(std::uint64_t first_rve, std::uint64_t n_rve,
+                          std::map<std::uint64_t, std::string> incoming) {
+  std::vector<RveRecord> next(n_rve);
+  std::vector<native::NeighbourList> next_lists(n_rve, native::NeighbourList(p_.verlet_skin));
+  for (std::uint64_t k = 0; k < n_rve; ++k) {
+    const std::uint64_t gid = first_rve + k;
+    if (gid >= ctx_.first_rve && gid < ctx_.first_rve + rves_.size()) {
+      next[k] = std::move(rves_[gid - ctx_.first_rve]);
+      next_lists[k] = std::move(lists_[gid - ctx_.first_rve]);
+      continue;
+    }
+    const auto it = incoming.find(gid);
+    if (it == incoming.end()) {
+      throw std::runtime_error("native backend: no state received for RVE " + std::to_string(gid));
+    }
+    next[k] = native::decode(it->second);
+  }
+  rves_ = std::move(next);
+  lists_ = std::move(next_lists);
+  ctx_.first_rve = first_rve;
+  ctx_.n_rve = n_rve;
+}
+
+NativeParams native_params(const config::Config& cfg) {
+  NativeParams p;
+  std::string dir = cfg.string("coupling.native.packing_dir");
+  if (!dir.empty() && !std::filesystem::path(dir).is_absolute()) {
+    dir = (std::filesystem::path(cfg.file()).parent_path() / dir).lexically_normal().string();
+  }
+  p.packing_dir = dir;
+  p.packings = cfg.strings("coupling.native.packings");
+  if (!p.packings.empty() && p.packing_dir.empty()) {
+    cfg.fail("coupling.native.packings", "needs coupling.native.packing_dir");
+  }
+  p.seed = cfg.integer("coupling.native.seed");
+  p.inline_spheres = static_cast<int>(cfg.integer("coupling.native.inline_spheres"));
+  p.ns_fixed = cfg.string("coupling.native.ns_rule") == "fixed";
+  p.ns = static_cast<int>(cfg.integer("coupling.native.ns"));
+  p.ns_factor = cfg.number("coupling.native.ns_factor");
+  p.ns_min = static_cast<int>(cfg.integer("coupling.native.ns_min"));
+  p.ns_max = static_cast<int>(cfg.integer("coupling.native.ns_max"));
+  if (p.ns_min > p.ns_max) cfg.fail("coupling.native.ns_min", "must not exceed ns_max");
+  p.damping = cfg.number("coupling.native.damping");
+  p.ke_threshold = cfg.number("coupling.native.ke_threshold");
+  p.stiffness = cfg.string("coupling.native.stiffness") == "tangent";
+  p.consolidation_tol = cfg.number("coupling.native.consolidation_tol");
+  p.consolidation_unbalanced = cfg.number("coupling.native.consolidation_unbalanced");
+  p.consolidation_max_steps =
+      static_cast<long>(cfg.integer("coupling.native.consolidation_max_steps"));
+  p.verlet_skin = cfg.number("coupling.native.verlet_skin");
+  return p;
+}
+
+std::unique_ptr<RveBackend> make_native_backend(const config::Config& cfg) {
+  return std::make_unique<NativeBackend>(native_params(cfg));
+}
+
+}  // namespace mpmdem::dem

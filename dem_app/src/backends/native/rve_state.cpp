@@ -1,0 +1,82 @@
+// Structure-of-arrays containers of a native RVE: see rve_state.hpp.
+#include "backends/native/rve_state.hpp"
+
+namespace mpmdem::dem::native {
+
+void Spheres::resize(std::size_t n) {
+  radius.resize(n);
+  mass.resize(n);
+  inertia.resize(n);
+  pos.resize(n, Vec3::Zero());
+  vel.resize(n, Vec3::Zero());
+  ang_vel.resize(n, Vec3::Zero());
+  ori.resize(n, Quat::Identity());
+  ref_ori.resize(n, Quat::Identity());
+  force.resize(n, Vec3::Zero());
+  torque.resize(n, Vec3::Zero());
+}
+
+void Spheres::push_back(double r, double m, double inertia_value, const Vec3& x) {
+  const std::size_t n = size();
+  resize(n + 1);
+  radius[n] = r;
+  mass[n] = m;
+  inertia[n] = inertia_value;
+  pos[n] = x;
+}
+
+void Contacts::clear() {
+  id1.clear();
+  id2.clear();
+  cell.clear();
+  normal.clear();
+  shear_force.clear();
+  normal_force.clear();
+  kn.clear();
+  ks.clear();
+  tan_phi.clear();
+  penetration.clear();
+}
+
+std::size_t Contacts::add(std::uint32_t a, std::uint32_t b, const Eigen::Vector3i& c,
+                          double kn_value, double ks_value, double tan_value) {
+  id1.push_back(a);
+  id2.push_back(b);
+  cell.push_back(c);
+  normal.push_back(Vec3::Zero());
+  shear_force.push_back(Vec3::Zero());
+  normal_force.push_back(Vec3::Zero());
+  kn.push_back(kn_value);
+  ks.push_back(ks_value);
+  tan_phi.push_back(tan_value);
+  penetration.push_back(0.0);
+  return id1.size() - 1;
+}
+
+void Contacts::swap_remove(std::size_t k) {
+  const std::size_t last = size() - 1;
+  if (k != last) {
+    id1[k] = id1[last];
+    id2[k] = id2[last];
+    cell[k] = cell[last];
+    normal[k] = normal[last];
+    shear_force[k] = shear_force[last];
+    normal_force[k] = normal_force[last];
+    kn[k] = kn[last];
+    ks[k] = ks[last];
+    tan_phi[k] = tan_phi[last];
+    penetration[k] = penetration[last];
+  }
+  id1.pop_back();
+  id2.pop_back();
+  cell.pop_back();
+  normal.pop_back();
+  shear_force.pop_back();
+  normal_force.pop_back();
+  kn.pop_back();
+  ks.pop_back();
+  tan_phi.pop_back();
+  penetration.pop_back();
+}
+
+}  // namespace mpmdem::dem::native

@@ -1,0 +1,159 @@
+// Native backend as the server drives it: the cell equals the product of the dF increments
+// (despite the velGrad lag), consolidation to RveInit's stress, checkpoint round trip and
+// migration bit for bit. Two RVEs of 40 in-place spheres.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+#include <Eigen/LU>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+#include <random>
+
+#include "backends/native/binary_state.hpp"
+#include "backends/native/native_backend.hpp"
+
+namespace {
+
+using namespace mpmdem;
+using protocol::RveReply;
+using protocol::RveRequest;
+using RowMajor3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
+
+constexpr double kP0 = 1.0e4;  // consolidation pressure [Pa]
+
+dem::NativeParams params() {
+  dem::NativeParams p;
+  p.inline_spheres = 40;
+  p.ns_fixed = true;
+  p.ns = 10;
+  p.consolidation_tol = 0.02;
+  p.consolidation_unbalanced = 0.05;
+  return p;
+}
+
+std::unique_ptr<dem::NativeBackend> make(std::uint64_t first, std::uint64_t n, double p0,
+                                         RveReply* reply) {
+  auto b = std::make_unique<dem::NativeBackend>(params());
+  dem::BackendContext ctx;
+  ctx.first_rve = first;
+  ctx.n_rve = n;
+  ctx.outputs = protocol::kKnownOutputs;
+  b->setup(ctx);
+  std::vector<protocol::RveInit> init(n);
+  for (std::uint64_t k = 0; k < n; ++k) {
+    std::memset(&init[k], 0, sizeof init[k]);
+    init[k].stress[0] = init[k].stress[4] = init[k].stress[8] = -p0;
+    init[k].point = first + k;
+  }
+  b->initialise(init.data(), reply);
+  return b;
+}
+
+// A random small increment: stretch, shear and rotation of ~1e-4.
+RowMajor3 random_dF(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(-1e-4, 1e-4);
+  RowMajor3 f = RowMajor3::Identity();
+  for (int i = 0; i < 9; ++i) f(i / 3, i % 3) += u(rng);
+  return f;
+}
+
+void step(dem::NativeBackend& b, std::int64_t n, const std::vector<RowMajor3>& dF,
+          RveReply* reply) {
+  std::vector<RveRequest> req(dF.size());
+  for (std::size_t k = 0; k < dF.size(); ++k) {
+    std::memset(&req[k], 0, sizeof req[k]);
+    Eigen::Map<RowMajor3>(req[k].dF) = dF[k];
+  }
+  protocol::ControlHeader h{};
+  h.step = n;
+  b.step(h, req.data(), reply);
+}
+
+bool same_bits(const RveReply& a, const RveReply& b) {
+  return std::memcmp(a.stress, b.stress, sizeof a.stress) == 0 &&
+         std::memcmp(a.rotation, b.rotation, sizeof a.rotation) == 0 &&
+         std::memcmp(&a.stiffness, &b.stiffness, sizeof a.stiffness) == 0 &&
+         std::memcmp(&a.unbalanced_force, &b.unbalanced_force, sizeof(double)) == 0 &&
+         a.status == b.status && a.n_substeps == b.n_substeps;
+}
+
+TEST(NativeBackend, ConsolidatesToRveInitStressAndCellFollowsTheIncrementsExactly) {
+  RveReply init[2];
+  auto b = make(3, 2, kP0, init);
+  for (const RveReply& r : init) {
+    EXPECT_EQ(r.status, 0);
+    EXPECT_EQ(r.n_substeps, 40);  // kInitialise: particles
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(r.stress[4 * i], -kP0, 0.03 * kP0);
+    EXPECT_GT(r.stiffness, 0.0);
+    EXPECT_GT(r.porosity, 0.3);
+    EXPECT_LT(r.porosity, 0.5);
+    EXPECT_GT(r.coordination, 3.0);
+  }
+  const Eigen::Matrix3d trsf0[2] = {b->rve(0).state.cell.trsf, b->rve(1).state.cell.trsf};
+  std::mt19937_64 rng(42);
+  Eigen::Matrix3d product[2] = {Eigen::Matrix3d::Identity(), Eigen::Matrix3d::Identity()};
+  RveReply reply[2];
+  for (int n = 1; n <= 12; ++n) {
+    std::vector<RowMajor3> dF = {random_dF(rng), random_dF(rng)};
+    for (int k = 0; k < 2; ++k) product[k] = dF[k] * product[k];
+    step(*b, n, dF, reply);
+    for (int k = 0; k < 2; ++k) {
+      EXPECT_EQ(reply[k].status, 0);
+      EXPECT_EQ(reply[k].n_substeps, 10);
+      const Eigen::Matrix3d rel = b->rve(k).state.cell.trsf * trsf0[k].inverse();
+      EXPECT_LT((rel - product[k]).cwiseAbs().maxCoeff(), 1e-12) << "step " << n;
+    }
+  }
+}
+
+TEST(NativeBackend, CheckpointRoundTripAndMigrationAreBitwise) {
+  RveReply init[2];
+  auto a = make(0, 2, kP0, init);
+  std::mt19937_64 rng(7);
+  RveReply ra[2], rb[2];
+  for (int n = 1; n <= 3; ++n) step(*a, n, {random_dF(rng), random_dF(rng)}, ra);
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("mpmdem_native_ckpt_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  a->checkpoint(dir);
+  // Restart: a new backend restored from the files continues bit for bit.
+  auto b = std::make_unique<dem::NativeBackend>(params());
+  dem::BackendContext ctx;
+  ctx.n_rve = 2;
+  ctx.outputs = protocol::kKnownOutputs;
+  b->setup(ctx);
+  b->restore(dir);
+  std::filesystem::remove_all(dir);
+  EXPECT_EQ(dem::native::encode(a->rve(0)), dem::native::encode(b->rve(0)));
+  // Migration: RVE 1 moves from `a` to a third backend `c` that owned none.
+  auto c = make(2, 0, kP0, nullptr);
+  std::map<std::uint64_t, std::string> incoming;
+  incoming[1] = a->export_rve(1);
+  c->adopt(1, 1, incoming);
+  for (int n = 4; n <= 9; ++n) {
+    std::vector<RowMajor3> dF = {random_dF(rng), random_dF(rng)};
+    step(*a, n, dF, ra);
+    step(*b, n, dF, rb);
+    RveReply rcs[1];
+    step(*c, n, {dF[1]}, rcs);  // c owns RVE 1
+    for (int k = 0; k < 2; ++k) EXPECT_TRUE(same_bits(ra[k], rb[k])) << "restart, RVE " << k;
+    EXPECT_TRUE(same_bits(ra[1], rcs[0])) << "migrated RVE, step " << n;
+    EXPECT_NE(ra[0].stress[0], 0.0);
+  }
+  EXPECT_EQ(dem::native::encode(a->rve(1)), dem::native::encode(c->rve(0)));
+}
+
+TEST(NativeBackend, CorruptStateIsRefused) {
+  dem::native::RveRecord r;
+  r.state.spheres.push_back(1e-3, 1e-5, 4e-12, dem::native::Vec3::Zero());
+  std::string blob = dem::native::encode(r);
+  EXPECT_EQ(dem::native::encode(dem::native::decode(blob)), blob);
+  EXPECT_THROW(dem::native::decode(blob.substr(0, blob.size() - 1)), std::runtime_error);
+  blob[0] = 'X';
+  EXPECT_THROW(dem::native::decode(blob), std::runtime_error);
+}
+
+}  // namespace

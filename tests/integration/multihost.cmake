@@ -3,6 +3,6 @@
 # Needs root: otherwise skipped (exit 77).
 add_test(NAME multihost_netns
          COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/multihost.sh)
-set_tests_properties(multihost_netns PROPERTIES TIMEOUT 180 LABELS integration
+set_tests_properties(multihost_netns PROPERTIES TIMEOUT 180 LABELS "integration;no_asan"
   ENVIRONMENT "MPMDEM_BIN=${PROJECT_BINARY_DIR};MPMDEM_SRC=${PROJECT_SOURCE_DIR}"
   SKIP_RETURN_CODE 77 RUN_SERIAL TRUE)

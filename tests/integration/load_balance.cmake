@@ -5,7 +5,7 @@ set_tests_properties(load_balance_elastic PROPERTIES TIMEOUT 300 LABELS integrat
   ENVIRONMENT "MPMDEM_BIN=${PROJECT_BINARY_DIR};MPMDEM_SRC=${PROJECT_SOURCE_DIR}" RUN_SERIAL TRUE)
 if(MPMDEM_WITH_YADE AND EXISTS /usr/bin/yade AND EXISTS /usr/bin/python3.11-config)
   add_test(NAME load_balance_yade COMMAND bash ${_lb} yade)
-  set_tests_properties(load_balance_yade PROPERTIES TIMEOUT 600 LABELS integration
+  set_tests_properties(load_balance_yade PROPERTIES TIMEOUT 600 LABELS "integration;no_asan"
     ENVIRONMENT "MPMDEM_BIN=${PROJECT_BINARY_DIR};MPMDEM_SRC=${PROJECT_SOURCE_DIR}"
     RUN_SERIAL TRUE)
 endif()

@@ -4,6 +4,6 @@
 # short; `bash tests/integration/resume_ranks.sh yade` (MPMDEM_BIN, MPMDEM_SRC set) runs the
 # full YADE variant by hand (measured 26-38 s).
 add_test(NAME resume_ranks_elastic COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/resume_ranks.sh elastic)
-set_tests_properties(resume_ranks_elastic PROPERTIES TIMEOUT 120 LABELS integration
+set_tests_properties(resume_ranks_elastic PROPERTIES TIMEOUT 120 LABELS "integration;no_asan"
   ENVIRONMENT "MPMDEM_BIN=${PROJECT_BINARY_DIR};MPMDEM_SRC=${PROJECT_SOURCE_DIR}"
   RUN_SERIAL TRUE)

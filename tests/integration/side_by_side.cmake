@@ -4,7 +4,7 @@
 # the YADE backend is built.
 if(MPMDEM_WITH_YADE AND EXISTS /usr/bin/yade AND EXISTS /usr/bin/python3.11-config)
   add_test(NAME side_by_side_yade_standalone COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/side_by_side.sh)
-  set_tests_properties(side_by_side_yade_standalone PROPERTIES TIMEOUT 180 LABELS integration
+  set_tests_properties(side_by_side_yade_standalone PROPERTIES TIMEOUT 180 LABELS "integration;no_asan"
     ENVIRONMENT "MPMDEM_BIN=${PROJECT_BINARY_DIR};MPMDEM_SRC=${PROJECT_SOURCE_DIR}"
     RUN_SERIAL TRUE)
 endif()

@@ -14,7 +14,7 @@ function(stability_test name check_set timeout)
     COMMAND sh -c "rm -rf \"$1\" && \"$2\" ${suite_args} --out \"$1\"; rc=$?; /usr/bin/python3 \"$3\" \"$1\" ${check_set} $rc"
             sh ${out} ${PROJECT_SOURCE_DIR}/scripts/stability_suite
             ${CMAKE_CURRENT_FUNCTION_LIST_DIR}/stability_check.py)
-  set_tests_properties(${name} PROPERTIES TIMEOUT ${timeout} LABELS integration RUN_SERIAL TRUE
+  set_tests_properties(${name} PROPERTIES TIMEOUT ${timeout} LABELS "integration;no_asan" RUN_SERIAL TRUE
     ENVIRONMENT "MPMDEM_SKIP_SETUP=1;MPMDEM_BUILD_DIR=${PROJECT_BINARY_DIR}")
 endfunction()
 

@@ -36,11 +36,12 @@ struct Grid {
   std::array<ShapeAxis, 3> axes{};
 
   // Node fields (index(i, j, k)).
-  std::vector<double> m_i;  // mass [kg]
-  std::vector<Vec3> mv_i;   // momentum [kg m/s]
-  std::vector<Vec3> f_i;    // internal force, then total force [N]
-  std::vector<Vec3> v_i;    // velocity after the grid update (v_i^{n+1}) [m/s]
-  std::vector<Vec3> v0_i;   // velocity before the update (v_i^n = mv_i / m_i) [m/s]
+  std::vector<double> m_i;    // mass [kg]
+  std::vector<Vec3> mv_i;     // momentum [kg m/s]
+  std::vector<Vec3> f_i;      // internal force, then total force [N]
+  std::vector<Vec3> v_i;      // velocity after the grid update (v_i^{n+1}) [m/s]
+  std::vector<Vec3> v0_i;     // velocity before the update (v_i^n = mv_i / m_i) [m/s]
+  std::vector<Vec3> vstar_i;  // XPIC only: v* from v0_i (xpic.hpp) [m/s]
 
   std::size_t size() const { return m_i.size(); }
   // Flat index of lattice node (i, j, k), each in [-kGhost, cells + kGhost]; i fastest.

@@ -72,9 +72,9 @@ struct VelocityConstraintParams {
 
 enum class Scheme { kUSL, kMUSL };
 enum class ShapeKind { kLinear, kQuadraticBSpline };
-// Particle <-> grid velocity transfer: APIC (affine particle-in-cell, Jiang et al. 2015) or the
-// PIC/FLIP blend.
-enum class Transfer { kAPIC, kPicFlip };
+// Particle <-> grid velocity transfer: APIC (affine particle-in-cell, Jiang et al. 2015), the
+// PIC/FLIP blend, or XPIC(m) (extended PIC, Hammerquist & Nairn 2017: xpic.hpp).
+enum class Transfer { kAPIC, kPicFlip, kXPIC };
 enum class OnExit { kError, kRemove };
 
 struct SolverParams {
@@ -85,6 +85,7 @@ struct SolverParams {
   // > 0: the PIC share of the blend is dt / flip_time_scale per step (a fixed filtering rate
   // per unit time, so the dissipation does not grow with the step count) in place of 1 - flip.
   double flip_time_scale = 0.0;  // [s]
+  int xpic_order = 4;            // m of XPIC(m) (xpic only; 1 = PIC)
   double cfl = 0.5;              // Courant number
   double dt_max = 1e-3;          // cap on the automatic step [s]
   double dt_fixed = 0.0;  // > 0: this step in place of the automatic one [s] (stability studies)
@@ -98,6 +99,7 @@ struct SolverParams {
 // FLIP fraction of a step of dt: 1 - dt / flip_time_scale (at least 0) when that is set, else
 // flip.
 inline double flip_fraction(const SolverParams& sp, double dt) {
+  if (sp.transfer == Transfer::kXPIC && !(sp.flip_time_scale > 0.0)) return 0.0;
   return sp.flip_time_scale > 0.0 ? std::max(0.0, 1.0 - dt / sp.flip_time_scale) : sp.flip;
 }
 

@@ -13,6 +13,7 @@
 #include "particle_init.hpp"
 #include "state_guard.hpp"
 #include "time_step.hpp"
+#include "xpic.hpp"
 
 namespace mpmdem::mpm {
 
@@ -282,6 +283,7 @@ void Solver::step_with(Stencils<Shape::kWidth>& stencils, double dt) {
   grid_work_.before_bc(grid_);
   bc_.apply(grid_.v_i);
   grid_work_.after_bc(grid_, dt, step_work);
+  if (sp.transfer == Transfer::kXPIC) xpic_velocity(p_, stencils, grid_, sp.xpic_order, buffers_);
   const auto t2 = Clock::now();
   // Update point velocities (APIC or PIC/FLIP) and positions; MUSL re-projects the momentum.
   const bool musl = sp.scheme == Scheme::kMUSL;

@@ -1,4 +1,5 @@
 #include "transfers.hpp"
+#include "node_loops.hpp"
 #include "parallel.hpp"
 
 #include <omp.h>
@@ -12,65 +13,9 @@
 
 namespace mpmdem::mpm {
 
-namespace {
-
-// Calls fn(node, N_ip, grad N_ip) for the W^3 nodes of a stencil.
-template <int W, class Fn>
-inline void for_each_node(const Grid& g, const Stencil<W>& s, Fn&& fn) {
-  const std::size_t sy = static_cast<std::size_t>(g.nodes[0]);
-  const std::size_t sz = sy * static_cast<std::size_t>(g.nodes[1]);
-  const std::size_t first = g.index(s.base[0], s.base[1], s.base[2]);
-  for (int c = 0; c < W; ++c) {
-    for (int b = 0; b < W; ++b) {
-      const std::size_t row =
-          first + static_cast<std::size_t>(b) * sy + static_cast<std::size_t>(c) * sz;
-      const double wyz = s.w[1][b] * s.w[2][c];
-      const double dyz = s.dw[1][b] * s.w[2][c];
-      const double ydz = s.w[1][b] * s.dw[2][c];
-      for (int a = 0; a < W; ++a) {
-        const Vec3 grad(s.dw[0][a] * wyz, s.w[0][a] * dyz, s.w[0][a] * ydz);
-        fn(row + static_cast<std::size_t>(a), s.w[0][a] * wyz, grad);
-      }
-    }
-  }
-}
-
-// As above, for APIC: fn(node, N_ip, grad N_ip, x_i - x_p, D_p^-1 N_ip (x_i - x_p)).
-template <int W, class Fn>
-inline void for_each_node_affine(const Grid& g, const Stencil<W>& s, Fn&& fn) {
-  const std::size_t sy = static_cast<std::size_t>(g.nodes[0]);
-  const std::size_t sz = sy * static_cast<std::size_t>(g.nodes[1]);
-  const std::size_t first = g.index(s.base[0], s.base[1], s.base[2]);
-  for (int c = 0; c < W; ++c) {
-    for (int b = 0; b < W; ++b) {
-      const std::size_t row =
-          first + static_cast<std::size_t>(b) * sy + static_cast<std::size_t>(c) * sz;
-      const double wyz = s.w[1][b] * s.w[2][c];
-      const double dyz = s.dw[1][b] * s.w[2][c];
-      const double ydz = s.w[1][b] * s.dw[2][c];
-      const double gyz = s.ga[1][b] * s.w[2][c];
-      const double ygz = s.w[1][b] * s.ga[2][c];
-      for (int a = 0; a < W; ++a) {
-        const Vec3 grad(s.dw[0][a] * wyz, s.w[0][a] * dyz, s.w[0][a] * ydz);
-        const Vec3 dx(s.dx[0][a], s.dx[1][b], s.dx[2][c]);
-        const Vec3 g_aff(s.ga[0][a] * wyz, s.w[0][a] * gyz, s.w[0][a] * ygz);
-        fn(row + static_cast<std::size_t>(a), s.w[0][a] * wyz, grad, dx, g_aff);
-      }
-    }
-  }
-}
-
-// Sum the per-thread copies of threads 1..used-1 into the grid field (inside a parallel region).
-template <class T>
-void reduce_into(std::vector<T>& field, std::vector<std::vector<T>>& copies, int used) {
-  const auto n = static_cast<std::ptrdiff_t>(field.size());
-#pragma omp for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    for (int t = 1; t < used; ++t) field[i] += copies[t - 1][i];
-  }
-}
-
-}  // namespace
+using detail::for_each_node;
+using detail::for_each_node_affine;
+using detail::reduce_into;
 
 void ScatterBuffers::resize(std::size_t nodes, int threads) {
   const auto copies = static_cast<std::size_t>(std::max(0, threads - 1));
@@ -199,6 +144,16 @@ void g2p(Particles& p, const Stencils<W>& s, Grid& grid, Transfer transfer, doub
                              });
         p.v[q] = v_pic;
         p.C[q] = C;
+      } else if (transfer == Transfer::kXPIC) {
+        // v_p = flip (v_p + sum N (v_i - v0_i)) + (1 - flip) sum N (v*_i + v_i - v0_i):
+        // the blend with FLIP (flip > 0 only with solver.flip_time_scale).
+        Vec3 dv = Vec3::Zero(), v_star = Vec3::Zero();
+        for_each_node(grid, s[q], [&](std::size_t i, double N, const Vec3&) {
+          v_pic += N * grid.v_i[i];
+          dv += N * (grid.v_i[i] - grid.v0_i[i]);
+          v_star += N * grid.vstar_i[i];
+        });
+        p.v[q] = flip * (p.v[q] + dv) + (1.0 - flip) * (v_star + dv);
       } else {
         Vec3 dv = Vec3::Zero();
         for_each_node(grid, s[q], [&](std::size_t i, double N, const Vec3&) {

@@ -22,6 +22,7 @@ struct ScatterBuffers {
   std::vector<std::vector<double>> m;
   std::vector<std::vector<Vec3>> mv;
   std::vector<std::vector<Vec3>> f;
+  std::vector<Vec3> term, next;  // XPIC's node fields (xpic.cpp)
   void resize(std::size_t nodes, int threads);
 };
 
@@ -48,7 +49,8 @@ void grid_update(Grid& grid, const Vec3& gravity, double damping, double dt);
 //   APIC:     v_p = sum N v_i,  C_p = sum_i v_i (D_p^-1 N_ip (x_i - x_p))^T  (Jiang et al. 2015;
 //             conserves angular momentum, and its dissipation does not grow with the step count
 //             the way the PIC share of a blend does);
-//   PIC/FLIP: v_p = flip (v_p + sum N (v_i - v0_i)) + (1 - flip) sum N v_i.
+//   PIC/FLIP: v_p = flip (v_p + sum N (v_i - v0_i)) + (1 - flip) sum N v_i;
+//   XPIC:     v_p = sum N (v*_i + v_i - v0_i)  (grid.vstar_i from xpic_velocity).
 template <int W>
 void g2p(Particles& p, const Stencils<W>& s, Grid& grid, Transfer transfer, double flip, double dt,
          bool reproject, ScatterBuffers& buf);

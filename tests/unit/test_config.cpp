@@ -44,7 +44,7 @@ TEST(ConfigValidation, UnknownNestedKeyWithoutCloseMatchListsKnownKeys) {
       scene_error(replaced(kMinimal, "  end_time: 0.1\n", "  end_time: 0.1\n  zzzzzz: 1\n"));
   EXPECT_CONTAINS(msg, std::string("unknown key 'solver.zzzzzz'"));
   EXPECT_CONTAINS(
-      msg, std::string("known keys here: scheme, shape, transfer, flip, flip_time_scale, cfl"));
+      msg, std::string("known keys here: scheme, shape, transfer, xpic_order, flip, flip_time_scale, cfl"));
   EXPECT_CONTAINS(msg, std::string("line 11"));
 }
 
@@ -381,6 +381,28 @@ TEST(ConfigCrossChecks, ApicNeedsBSplinesAndNoFlip) {
   EXPECT_CONTAINS(flip, std::string("solver.flip"));
   EXPECT_CONTAINS(flip, std::string("applies only to solver.transfer: pic_flip"));
   EXPECT_CONTAINS(flip, std::string("apic_flip.yaml line 13"));
+}
+
+TEST(ConfigCrossChecks, XpicOrderOnlyWithXpic) {
+  const std::string order = load_error(
+      "xo.yaml", replaced(kMinimal, "  end_time: 0.1\n", "  end_time: 0.1\n  xpic_order: 3\n"));
+  EXPECT_CONTAINS(order, std::string("solver.xpic_order"));
+  EXPECT_CONTAINS(order, std::string("applies only to solver.transfer: xpic"));
+  const std::string flip = load_error(
+      "xf.yaml",
+      replaced(kMinimal, "  end_time: 0.1\n", "  end_time: 0.1\n  transfer: xpic\n  flip: 0.9\n"));
+  EXPECT_CONTAINS(flip, std::string("applies only to solver.transfer: pic_flip (the transfer is "
+                                    "xpic)"));
+  const std::string high =
+      load_error("xh.yaml", replaced(kMinimal, "  end_time: 0.1\n",
+                                     "  end_time: 0.1\n  transfer: xpic\n  xpic_order: 9\n"));
+  EXPECT_CONTAINS(high, std::string("solver.xpic_order"));
+  EXPECT_CONTAINS(high, std::string("xh.yaml"));
+  mpmdem::mpm::SolverParams sp;
+  sp.transfer = mpmdem::mpm::Transfer::kXPIC;
+  EXPECT_DOUBLE_EQ(mpmdem::mpm::flip_fraction(sp, 0.003), 0.0);  // pure XPIC unless a time scale
+  sp.flip_time_scale = 0.03;
+  EXPECT_DOUBLE_EQ(mpmdem::mpm::flip_fraction(sp, 0.003), 0.9);
 }
 
 TEST(ConfigCrossChecks, FlipTimeScaleReplacesFlip) {

@@ -188,11 +188,17 @@ SolverParams load_solver(const Config& cfg) {
   s.scheme = cfg.string("solver.scheme") == "usl" ? Scheme::kUSL : Scheme::kMUSL;
   s.shape =
       cfg.string("solver.shape") == "bspline2" ? ShapeKind::kQuadraticBSpline : ShapeKind::kLinear;
-  s.transfer = cfg.string("solver.transfer") == "pic_flip" ? Transfer::kPicFlip : Transfer::kAPIC;
-  if (s.transfer == Transfer::kAPIC && cfg.has("solver.flip")) {
-    cfg.fail("solver.flip",
-             "applies only to solver.transfer: pic_flip (the transfer is apic); remove it or set "
-             "transfer: pic_flip");
+  const std::string transfer = cfg.string("solver.transfer");
+  s.transfer = transfer == "pic_flip" ? Transfer::kPicFlip
+               : transfer == "xpic"   ? Transfer::kXPIC
+                                      : Transfer::kAPIC;
+  if (s.transfer != Transfer::kPicFlip && cfg.has("solver.flip")) {
+    cfg.fail("solver.flip", "applies only to solver.transfer: pic_flip (the transfer is " +
+                                transfer + "); remove it or set transfer: pic_flip");
+  }
+  if (s.transfer != Transfer::kXPIC && cfg.has("solver.xpic_order")) {
+    cfg.fail("solver.xpic_order", "applies only to solver.transfer: xpic (the transfer is " +
+                                      transfer + "); remove it or set transfer: xpic");
   }
   if (s.transfer == Transfer::kAPIC && s.shape == ShapeKind::kLinear) {
     cfg.fail("solver.transfer",
@@ -202,10 +208,12 @@ SolverParams load_solver(const Config& cfg) {
              "transfer: pic_flip");
   }
   s.flip = cfg.number("solver.flip");
+  s.xpic_order = static_cast<int>(cfg.integer("solver.xpic_order"));
   s.flip_time_scale = cfg.number("solver.flip_time_scale");
   if (s.flip_time_scale > 0.0 && s.transfer == Transfer::kAPIC) {
-    cfg.fail("solver.flip_time_scale",
-             "applies only to solver.transfer: pic_flip (the transfer is apic); remove it");
+    cfg.fail(
+        "solver.flip_time_scale",
+        "applies only to solver.transfer: pic_flip (the transfer is " + transfer + "); remove it");
   }
   if (s.flip_time_scale > 0.0 && cfg.has("solver.flip")) {
     cfg.fail("solver.flip_time_scale",

@@ -122,20 +122,28 @@ void add_solver_keys(config::Schema& s) {
             .one_of({"linear", "bspline2"}));
   s.add(key("solver.transfer", Type::kEnum, "",
             "particle-grid velocity transfer: apic (affine PIC, Jiang et al. 2015: conserves "
-            "angular momentum, dissipation independent of the step count; needs shape "
-            "bspline2) or pic_flip (the blend set by solver.flip; its PIC share damps every "
-            "step)")
+            "angular momentum; needs shape bspline2), pic_flip (the blend set by solver.flip; "
+            "its PIC share damps every step) or xpic (extended PIC of order "
+            "solver.xpic_order, Hammerquist & Nairn 2017: FLIP with the grid's null-space "
+            "noise filtered out)")
             .def("pic_flip")
-            .one_of({"apic", "pic_flip"}));
+            .one_of({"apic", "pic_flip", "xpic"}));
+  s.add(key("solver.xpic_order", Type::kInt, "-",
+            "m of XPIC(m), xpic only: 1 is PIC; each order adds one grid-to-grid smoothing "
+            "pass and damps resolved modes less")
+            .def("4")
+            .ge(1)
+            .le(8));
   s.add(key("solver.flip", Type::kDouble, "-",
             "FLIP fraction of the PIC/FLIP blend (1: pure FLIP); only with transfer pic_flip")
             .def("0.99")
             .ge(0)
             .le(1));
   s.add(key("solver.flip_time_scale", Type::kDouble, "s",
-            "pic_flip only: the PIC share of a step is dt / flip_time_scale instead of 1 - flip, "
+            "pic_flip: the PIC share of a step is dt / flip_time_scale instead of 1 - flip, "
             "so the blend filters the velocities at a fixed rate per unit time and the result "
-            "does not drift with the time step; 0: off (solver.flip)")
+            "does not drift with the time step; 0: off (solver.flip). xpic: the XPIC share of "
+            "a step is dt / flip_time_scale, the rest FLIP; 0: pure XPIC")
             .def("0")
             .ge(0));
   s.add(key("solver.cfl", Type::kDouble, "-",

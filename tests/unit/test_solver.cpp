@@ -287,33 +287,57 @@ TEST(Solver, FatalRveStatusStopsTheRun) {
   }
 }
 
-TEST(Solver, ElasticColumnWithQuadraticBSplines) {
-  // The elastic column scene (configs/elastic_column.yaml) with the B-spline option. B-splines
-  // are accurate inside the column; within three cells of the fixed base and of the free top
-  // the unmodified B-spline stencil is known to be off (no boundary-modified splines), so the
-  // profile is checked inside and the settlement overall.
+namespace {
+
+// The elastic column scene (configs/elastic_column.yaml, h = 0.05 m) with the given shape
+// functions, run to rest. Largest |sigma_zz - exact| in units of rho g h (the stress change
+// over one cell): within three cells of the fixed base, and between those and the three cells
+// below the free top (a free surface, not a wall, where the points' support ends).
+struct ColumnErrors {
+  double near_base = 0.0, inside = 0.0, settlement = 0.0;
+};
+ColumnErrors elastic_column_errors(ShapeKind shape) {
   Scene s = box(0.05, Vec3(0.05, 0.05, 1.1));
   s.regions.push_back(region("column", Vec3(0, 0, 0), Vec3(0.05, 0.05, 1.0)));
   for (int f = 0; f < 4; ++f) s.walls[static_cast<std::size_t>(f)].type = WallType::kSlip;
   s.walls[4].type = WallType::kFixed;
-  s.solver.shape = ShapeKind::kQuadraticBSpline;
+  s.solver.shape = shape;
   s.solver.local_damping = 0.15;
   s.solver.end_time = 1.0;
   s.verification.kind = VerificationKind::kElasticColumn;
   Solver solver(s, generate_particles(s), make_linear_elastic(s.constitutive));
   while (!solver.finished()) solver.step();
   const Particles& p = solver.particles();
-  double worst = 0.0;
+  ColumnErrors e;
+  const double unit = 2000.0 * 9.81 * 0.05;
   for (std::size_t q = 0; q < p.size(); ++q) {
     const double z = p.x0[q].z();
-    if (z < 0.15 || z > 0.85) continue;  // three cells from the base and the top
-    const double expected = -2000.0 * 9.81 * (1.0 - z);
-    worst = std::max(worst, std::abs(p.sigma[q](2, 2) / expected - 1.0));
+    if (z > 0.85) continue;
+    const double err = std::abs(p.sigma[q](2, 2) + 2000.0 * 9.81 * (1.0 - z)) / unit;
+    double& worst = z < 0.15 ? e.near_base : e.inside;
+    worst = std::max(worst, err);
   }
-  const ElasticColumnResult r = verify_elastic_column(s, p);
-  std::cout << "quadratic B-spline column: interior stress error (max) " << worst
-            << ", settlement_rel_error " << r.settlement_rel_error
-            << ", stress_rel_error (all points) " << r.stress_rel_error << "\n";
-  EXPECT_LT(worst, 0.01);
-  EXPECT_LT(r.settlement_rel_error, 0.025);
+  e.settlement = verify_elastic_column(s, p).settlement_rel_error;
+  return e;
+}
+
+}  // namespace
+
+// Clamped quadratic B-splines (shape_functions.hpp: open knot vector at walls) against
+// trilinear shapes on the elastic column. Inside the column B-splines are far more accurate.
+// Within three cells of the fixed base they are still more accurate than trilinear shapes, but
+// NOT as accurate as inside (measured, 2 points per cell: 0.124 rho g h at the first point
+// against 0.0036 inside; 0.040 against 0.0004 with 4 points per cell): the point quadrature of
+// the clamped functions is not exact next to the wall. docs/transfers.md.
+TEST(Solver, ElasticColumnWithQuadraticBSplines) {
+  const ColumnErrors b = elastic_column_errors(ShapeKind::kQuadraticBSpline);
+  const ColumnErrors l = elastic_column_errors(ShapeKind::kLinear);
+  std::cout << "elastic column, max stress error / (rho g h), within 3 cells of the fixed base / "
+               "inside: bspline2 "
+            << b.near_base << " / " << b.inside << ", linear " << l.near_base << " / " << l.inside
+            << "; settlement_rel_error bspline2 " << b.settlement << "\n";
+  EXPECT_LT(b.inside, 0.01 * 2000.0 * 9.81 * 0.15 / (2000.0 * 9.81 * 0.05));  // 1 % at 3 cells
+  EXPECT_LT(b.inside, 0.1 * l.inside);
+  EXPECT_LT(b.near_base, l.near_base) << "clamped B-splines worse than trilinear at the wall";
+  EXPECT_LT(b.settlement, 0.025);
 }

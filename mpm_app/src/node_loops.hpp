@@ -10,28 +10,8 @@
 
 namespace mpmdem::mpm::detail {
 
-// Calls fn(node, N_ip, grad N_ip) for the W^3 nodes of a stencil.
-template <int W, class Fn>
-inline void for_each_node(const Grid& g, const Stencil<W>& s, Fn&& fn) {
-  const std::size_t sy = static_cast<std::size_t>(g.nodes[0]);
-  const std::size_t sz = sy * static_cast<std::size_t>(g.nodes[1]);
-  const std::size_t first = g.index(s.base[0], s.base[1], s.base[2]);
-  for (int c = 0; c < W; ++c) {
-    for (int b = 0; b < W; ++b) {
-      const std::size_t row =
-          first + static_cast<std::size_t>(b) * sy + static_cast<std::size_t>(c) * sz;
-      const double wyz = s.w[1][b] * s.w[2][c];
-      const double dyz = s.dw[1][b] * s.w[2][c];
-      const double ydz = s.w[1][b] * s.dw[2][c];
-      for (int a = 0; a < W; ++a) {
-        const Vec3 grad(s.dw[0][a] * wyz, s.w[0][a] * dyz, s.w[0][a] * ydz);
-        fn(row + static_cast<std::size_t>(a), s.w[0][a] * wyz, grad);
-      }
-    }
-  }
-}
-
-// As above, for APIC: fn(node, N_ip, grad N_ip, x_i - x_p, D_p^-1 N_ip (x_i - x_p)).
+// Calls fn(node, N_ip, grad N_ip, x_i - x_p, D_p^-1 N_ip (x_i - x_p)) for the W^3 nodes of a
+// stencil (the last two for APIC).
 template <int W, class Fn>
 inline void for_each_node_affine(const Grid& g, const Stencil<W>& s, Fn&& fn) {
   const std::size_t sy = static_cast<std::size_t>(g.nodes[0]);
@@ -54,6 +34,15 @@ inline void for_each_node_affine(const Grid& g, const Stencil<W>& s, Fn&& fn) {
       }
     }
   }
+}
+
+// Calls fn(node, N_ip, grad N_ip) for the W^3 nodes of a stencil (the affine terms above are
+// dead code once inlined).
+template <int W, class Fn>
+inline void for_each_node(const Grid& g, const Stencil<W>& s, Fn&& fn) {
+  for_each_node_affine(
+      g, s,
+      [&](std::size_t i, double N, const Vec3& grad, const Vec3&, const Vec3&) { fn(i, N, grad); });
 }
 
 // Sum the per-thread copies of threads 1..used-1 into the grid field (inside a parallel region).

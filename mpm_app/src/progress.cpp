@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <sstream>
 
 namespace mpmdem::mpm {
 
@@ -62,6 +63,22 @@ bool Progress::update(const ProgressState& s) {
 void Progress::print(const ProgressState& s) {
   last_ = Clock::now();
   out_ << format_progress(s, s.time >= s.end_time ? 0.0 : eta(s)) << std::endl;
+}
+
+std::string TimeStepLog::line(double dt, std::int64_t step, double time) {
+  char buf[160];
+  if (logged_ == 0.0) {
+    std::snprintf(buf, sizeof buf, "time step: dt = %.3e s", dt);
+  } else if (std::abs(dt - logged_) > 0.1 * logged_) {
+    std::ostringstream t;
+    t << time;  // as the other event lines print times
+    std::snprintf(buf, sizeof buf, "time step: dt = %.3e s from step %lld (t=%s s; was %.3e s)", dt,
+                  static_cast<long long>(step), t.str().c_str(), logged_);
+  } else {
+    return "";
+  }
+  logged_ = dt;
+  return buf;
 }
 
 }  // namespace mpmdem::mpm

@@ -51,4 +51,15 @@ class Progress {
   double start_sim_time_ = -1.0;
 };
 
+// "time step: dt = ..." lines: at the first step and whenever the step changed by more than
+// 10 % since the last line.
+class TimeStepLog {
+ public:
+  // The line for a step of dt ending at step `step`, time `time`; "" if none is due.
+  std::string line(double dt, std::int64_t step, double time);
+
+ private:
+  double logged_ = 0.0;
+};
+
 }  // namespace mpmdem::mpm

@@ -4,9 +4,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
-#include <csignal>
-#include <ctime>
 #include <filesystem>
 #include <iostream>
 #include <limits>
@@ -22,19 +19,14 @@
 #include "mpmdem/config/schema.hpp"
 #include "mpmdem/errors.hpp"
 #include "output/checkpoint.hpp"
-#include "output/checkpoint_schedule.hpp"
-#include "output/energy_log.hpp"
 #include "output/hdf5_writer.hpp"
 #include "output/run_directory.hpp"
-#include "output/rve_cost_log.hpp"
-#include "output/timing_log.hpp"
-#include "output/vtk_writer.hpp"
+#include "output/run_outputs.hpp"
 #include "particle_init.hpp"
 #include "progress.hpp"
 #include "run_support.hpp"
 #include "solver.hpp"
 #include "verification/bar_vibration.hpp"
-#include "verification/elastic_column.hpp"
 
 namespace mpmdem::mpm {
 
@@ -98,11 +90,7 @@ class Run {
       const std::size_t n = particles.size();
       sum.n_material_points = n;
       if (opt_.provider_factory || scene_.constitutive.model != ModelKind::kRemote) {
-        auto provider = opt_.provider_factory ? opt_.provider_factory(scene_, n)
-                        : scene_.constitutive.model == ModelKind::kDruckerPrager
-                            ? make_drucker_prager(scene_.constitutive)
-                            : make_linear_elastic(scene_.constitutive);
-        solver_ = std::make_unique<Solver>(scene_, std::move(particles), std::move(provider));
+        solver_ = std::make_unique<Solver>(scene_, std::move(particles), local_provider(n));
         create_directory();
       } else {
         create_directory();
@@ -173,7 +161,7 @@ class Run {
     }
     if (scene_.column_collapse.enabled) {
       column_.emplace(scene_);
-      column_->restore(resumed_.release_time, resumed_.E_p0_release, resumed_.snapshots_done);
+      column_->restore(resumed_.column);
     }
     sum.model = solver_->provider().name();
     sum.mass_initial_kg = resumed_.mass_initial_kg;
@@ -227,16 +215,8 @@ class Run {
 
   DriverState driver_state() {
     DriverState d;
-    d.next_frame = next_frame_;
-    d.next_energy = next_energy_;
-    if (vtk_) d.frame_times = vtk_->frame_times();
-    d.last_frame_step = last_frame_step_;
-    d.last_energy_step = last_energy_step_;
-    if (column_) {
-      d.release_time = column_->release_time();
-      d.E_p0_release = column_->E_p0_release();
-      d.snapshots_done = column_->snapshots_done();
-    }
+    outputs_->save(d);
+    if (column_) d.column = column_->state();
     d.step_wall_time_s = s().step_wall_time_s;
     d.step_cpu_time_s = s().step_cpu_time_s;
     d.wall_time_s = wall_time();
@@ -245,8 +225,6 @@ class Run {
     d.mass_initial_kg = s().mass_initial_kg;
     d.rve_particles = rve_particles();
     d.provider_state = solver_->provider().save_state();
-    if (timings_) timings_->flush();
-    if (rve_costs_) rve_costs_->flush();
     return d;
   }
 
@@ -271,26 +249,11 @@ class Run {
 
   // Step until the end time or a stop request; energies, frames and progress on the way.
   void time_loop() {
-    const bool resumed = !resume_dir_.empty();
-    const double frame_interval = scene_.output.interval;
-    const double energy_interval = scene_.output.energy_interval;
-    if (resumed) {
-      energy_.emplace(dir_ + "/energies.csv", solver_->step_count());
-      timings_.emplace(dir_ + "/timings.csv", solver_->step_count());
-      rve_costs_from_ = solver_->step_count();
-      if (scene_.output.vtk) vtk_.emplace(dir_, resumed_.frame_times);
-      last_frame_step_ = resumed_.last_frame_step;
-      last_energy_step_ = resumed_.last_energy_step;
-      next_frame_ = resumed_.next_frame;
-      next_energy_ = resumed_.next_energy;
+    outputs_.emplace(scene_, dir_);
+    if (resume_dir_.empty()) {
+      outputs_->start(*solver_);
     } else {
-      energy_.emplace(dir_ + "/energies.csv");
-      timings_.emplace(dir_ + "/timings.csv");
-      log_energy(0.0);
-      if (scene_.output.vtk) vtk_.emplace(dir_);
-      write_frame();
-      next_frame_ = frame_interval > 0.0 ? frame_interval : std::numeric_limits<double>::infinity();
-      next_energy_ = energy_interval > 0.0 ? energy_interval : 0.0;
+      outputs_->resume(*solver_, resumed_);
     }
     if (scene_.verification.kind == VerificationKind::kBarVibration) {
       try {
@@ -302,8 +265,7 @@ class Run {
     }
     print_events();
     observe_column();
-    CheckpointSchedule checkpoints(scene_.output.checkpoint_interval_steps,
-                                   scene_.output.checkpoint_interval_s, wall_time());
+    outputs_->start_checkpoints(wall_time());
 
     Progress progress(out_, scene_.output.progress_interval_s);
     progress.start(solver_->time());
@@ -320,23 +282,14 @@ class Run {
         break;
       }
       timed_step();
-      const double t = solver_->time();
-      const double tol = 1e-6 * last_dt_;
       log_time_step();
       print_events();
-      if (bar_) bar_->record(t, solver_->particles());
-      if (t >= next_energy_ - tol) {
-        log_energy(last_dt_);
-        while (energy_interval > 0.0 && next_energy_ <= t + tol) next_energy_ += energy_interval;
-      }
-      if (t >= next_frame_ - tol) {
-        write_frame();
-        while (next_frame_ <= t + tol) next_frame_ += frame_interval;
-      }
+      if (bar_) bar_->record(solver_->time(), solver_->particles());
+      outputs_->after_step(*solver_, last_dt_);
       observe_column();
-      if (checkpoints.due(solver_->step_count(), wall_time())) {
+      if (outputs_->checkpoint_due(solver_->step_count(), wall_time())) {
         const double took = write_checkpoint();
-        checkpoints.written(wall_time(), took);
+        outputs_->checkpoint_written(wall_time(), took);
       }
       if (progress.due()) progress.update(progress_state());
     }
@@ -350,16 +303,23 @@ class Run {
     if (column_->observe(t, solver_->boundary_conditions(), solver_->particles())) {
       out_ << "[step " << solver_->step_count() << ", t=" << t
            << " s] stage 2 (collapse) starts: stage 1 took " << t
-           << " s; t* = " << column_->geometry().t_star << " s, the run ends at t = "
-           << t + scene_.column_collapse.duration_t_star * column_->geometry().t_star << " s"
-           << std::endl;
+           << " s; t* = " << column_->geometry().t_star
+           << " s, the run ends at t = " << column_->end_time() << " s"
+           << (column_->at_rest() ? " or earlier, once the deposit is at rest" : "") << std::endl;
+    }
+    if (column_->observe_rest(t, solver_->particles())) {
+      const AtRestDetector& r = *column_->at_rest();
+      out_ << "[step " << solver_->step_count() << ", t=" << t
+           << " s] the deposit is at rest: E_k/E_p0 < " << r.kinetic_ratio()
+           << " since t/t* = " << *r.quiet_since() / column_->geometry().t_star
+           << "; stage 2 ends at t/t* = " << column_->time_over_t_star(t) << std::endl;
     }
     for (const std::string& label : column_->due_snapshots(t, 1e-6 * last_dt_)) {
       require_finite();
       std::filesystem::create_directories(dir_ + "/snapshots");
       write_final_state(dir_ + "/snapshots/" + label + ".h5", solver_->particles(),
                         {t, solver_->step_count(), scene_.name, scene_.source_file});
-      if (last_frame_step_ != solver_->step_count()) write_frame();
+      if (!outputs_->frame_written_at(solver_->step_count())) outputs_->write_frame(*solver_);
       out_ << "[step " << solver_->step_count() << ", t=" << t << " s] snapshot " << label
            << " (t/t* = " << column_->time_over_t_star(t) << ")" << std::endl;
     }
@@ -367,12 +327,7 @@ class Run {
 
   // Simulated time at which the run will end (as far as known now).
   double expected_end_time() const {
-    double end = scene_.solver.end_time;
-    if (column_ && column_->release_time()) {
-      end = std::min(end, *column_->release_time() +
-                              scene_.column_collapse.duration_t_star * column_->geometry().t_star);
-    }
-    return end;
+    return std::min(scene_.solver.end_time, column_ ? column_->end_time() : scene_.solver.end_time);
   }
 
   void timed_step() {
@@ -383,27 +338,13 @@ class Run {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     s().step_cpu_time_s += process_cpu_time() - cpu_start;
     last_dt_ = solver_->dt();
-    if (timings_) timings_->append(solver_->step_count(), solver_->time(), solver_->last_timing());
-    if (scene_.output.rve_costs && solver_->provider().last_rve_costs(cost_s_, cost_rank_)) {
-      if (!rve_costs_) rve_costs_.emplace(dir_, cost_s_.size(), rve_costs_from_);
-      rve_costs_->append(solver_->step_count(), cost_s_, cost_rank_);
-    }
     s().dt_min_s = std::min(s().dt_min_s, last_dt_);
     s().dt_max_s = std::max(s().dt_max_s, last_dt_);
   }
 
-  // The step used: at the first step and whenever it changed by more than 10%.
   void log_time_step() {
-    if (dt_logged_ == 0.0) {
-      out_ << "time step: dt = " << format_seconds(last_dt_) << " s" << std::endl;
-    } else if (std::abs(last_dt_ - dt_logged_) > 0.1 * dt_logged_) {
-      out_ << "time step: dt = " << format_seconds(last_dt_) << " s from step "
-           << solver_->step_count() << " (t=" << solver_->time() << " s; was "
-           << format_seconds(dt_logged_) << " s)" << std::endl;
-    } else {
-      return;
-    }
-    dt_logged_ = last_dt_;
+    const std::string line = dt_log_.line(last_dt_, solver_->step_count(), solver_->time());
+    if (!line.empty()) out_ << line << std::endl;
   }
 
   void print_events() {
@@ -413,28 +354,7 @@ class Run {
     }
   }
 
-  void require_finite() const {
-    const std::string bad = find_non_finite(solver_->particles());
-    if (!bad.empty()) {
-      throw SimulationError(bad + " at step " + std::to_string(solver_->step_count()) +
-                            "; the state is not written");
-    }
-  }
-
-  void log_energy(double dt) {
-    const Energies e = solver_->energies();
-    const EnergyBudget& b = solver_->energy_budget();
-    energy_->append({solver_->time(), solver_->step_count(), dt, e.E_p, e.E_k, e.E_strain,
-                     solver_->initial_potential_energy(), b.E_k0, b.W_int, b.W_damp, b.W_bc});
-    last_energy_step_ = solver_->step_count();
-  }
-
-  void write_frame() {
-    if (!vtk_) return;
-    require_finite();
-    vtk_->write_frame(solver_->particles(), solver_->time());
-    last_frame_step_ = solver_->step_count();
-  }
+  void require_finite() const { mpm::require_finite(solver_->particles(), solver_->step_count()); }
 
   ProgressState progress_state() const {
     return {solver_->step_count(),   solver_->time(),
@@ -445,8 +365,7 @@ class Run {
   // Last energy row and frame (if not just written), and the final state (complete or
   // interrupted runs).
   void final_outputs() {
-    if (last_energy_step_ != solver_->step_count()) log_energy(last_dt_);
-    if (last_frame_step_ != solver_->step_count()) write_frame();
+    outputs_->final_rows(*solver_, last_dt_);
     if (scene_.output.hdf5) {
       require_finite();
       write_final_state(dir_ + "/final_state.h5", solver_->particles(),
@@ -458,30 +377,12 @@ class Run {
   // reported but does not turn a complete run into a failed one: the figures are absent.
   void verify() {
     try {
-      verification_figures();
+      s().verification =
+          verification_figures(scene_, solver_->particles(), bar_ ? &*bar_ : nullptr);
     } catch (const std::exception& e) {
       err_ << "warning: verification " << s().verification_kind << " not computed: " << e.what()
            << std::endl;
       s().verification.clear();
-    }
-  }
-
-  void verification_figures() {
-    if (scene_.verification.kind == VerificationKind::kElasticColumn) {
-      const ElasticColumnResult v = verify_elastic_column(scene_, solver_->particles());
-      s().verification = {{"stress_rel_error", v.stress_rel_error},
-                          {"settlement_rel_error", v.settlement_rel_error},
-                          {"settlement_top_m", v.settlement_top_m},
-                          {"settlement_top_expected_m", v.settlement_top_expected_m},
-                          {"settlement_surface_expected_m", v.settlement_surface_expected_m}};
-    } else if (bar_) {
-      const BarVibrationResult v = bar_->result();
-      s().verification = {{"period_s", v.period_s},
-                          {"period_expected_s", v.period_expected_s},
-                          {"period_rel_error", v.period_rel_error},
-                          {"zero_crossings", static_cast<double>(v.crossings)},
-                          {"wave_speed_m_s", v.wave_speed_m_s},
-                          {"length_m", v.length_m}};
     }
   }
 
@@ -534,28 +435,20 @@ class Run {
     sum.E_k_J = e.E_k;
     sum.analysis.clear();
     if (column_) sum.analysis = column_->figures(solver_->time(), p);
+    sum.stop_reason =
+        stop_reason(sum.status, column_ ? column_->end_reason(solver_->time()) : std::string());
+    sum.stop.clear();
+    if (column_) sum.stop = column_->stop_figures(sum.time_s, sum.steps);
     if (scene_.constitutive.model == ModelKind::kRemote) {
-      sum.analysis.emplace_back("n_rve_particles", static_cast<double>(rve_particles()));
-      sum.analysis.emplace_back("rebalances",
-                                static_cast<double>(solver_->provider().rebalances()));
-      sum.analysis.emplace_back("rve_evaluations",
-                                static_cast<double>(solver_->provider().rve_evaluations()));
-      sum.analysis.emplace_back("rve_skipped",
-                                static_cast<double>(solver_->provider().rve_skipped()));
-      sum.analysis.emplace_back("rve_no_contact_updates",
-                                static_cast<double>(solver_->no_contact_updates()));
-      sum.analysis.emplace_back("rve_no_contact_points_final",
-                                static_cast<double>(solver_->no_contact_points()));
+      for (const auto& kv : remote_figures(*solver_, rve_particles())) sum.analysis.push_back(kv);
     }
     if (checkpoints_ > 0) {  // this process's part of the run (a resumed one: since resuming)
       sum.analysis.emplace_back("checkpoints", static_cast<double>(checkpoints_));
       sum.analysis.emplace_back("checkpoint_wall_time_s", checkpoint_wall_s_);
     }
-    if (timings_) {
-      timings_->flush();
-      for (const auto& kv : timings_->totals()) sum.analysis.push_back(kv);
+    if (outputs_) {
+      for (const auto& kv : outputs_->close()) sum.analysis.push_back(kv);
     }
-    if (rve_costs_) rve_costs_->flush();
     if (opt_.final_particles) *opt_.final_particles = p;
     sum.wall_time_s = wall_time();
     if (!write_summary_file() && result_.exit_code == 0) result_.exit_code = kExitPeerError;
@@ -584,13 +477,7 @@ class Run {
   bool dir_created_ = false;
   RunResult result_;
   std::unique_ptr<Solver> solver_;
-  std::optional<EnergyLog> energy_;
-  std::optional<TimingLog> timings_;
-  std::optional<RveCostLog> rve_costs_;  // output.rve_costs, opened at the first step
-  std::int64_t rve_costs_from_ = -1;     // a resumed run: the checkpoint's step
-  std::vector<double> cost_s_;
-  std::vector<int> cost_rank_;
-  std::optional<VtkSeries> vtk_;
+  std::optional<RunOutputs> outputs_;  // energy log, timings, frames, checkpoint triggers
   std::optional<BarVibrationMonitor> bar_;
   std::optional<ColumnCollapseMonitor> column_;
   std::string resume_dir_;  // checkpoint this run continues from ("" for a fresh run)
@@ -598,12 +485,8 @@ class Run {
   double wall_before_ = 0.0;        // wall time of the run before its last resume
   std::int64_t checkpoints_ = 0;    // checkpoints written by this process
   double checkpoint_wall_s_ = 0.0;  // their wall time, both sides
-  double next_frame_ = 0.0;
-  double next_energy_ = 0.0;
   double last_dt_ = 0.0;
-  double dt_logged_ = 0.0;
-  std::int64_t last_energy_step_ = -1;
-  std::int64_t last_frame_step_ = -1;
+  TimeStepLog dt_log_;
 };
 
 }  // namespace

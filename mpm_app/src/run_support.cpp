@@ -6,6 +6,9 @@
 #include <sstream>
 
 #include "run_driver.hpp"
+#include "solver.hpp"
+#include "verification/bar_vibration.hpp"
+#include "verification/elastic_column.hpp"
 
 namespace mpmdem::mpm {
 
@@ -121,6 +124,46 @@ std::string format_seconds(double s) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.3e", s);
   return buf;
+}
+
+std::string stop_reason(const std::string& status, const std::string& column_end) {
+  if (status == "failed" || status == "interrupted") return status;
+  if (status == "truncated") return "max_steps";
+  return column_end.empty() ? "end_time" : column_end;
+}
+
+std::vector<std::pair<std::string, double>> verification_figures(const Scene& scene,
+                                                                 const Particles& p,
+                                                                 const BarVibrationMonitor* bar) {
+  if (scene.verification.kind == VerificationKind::kElasticColumn) {
+    const ElasticColumnResult v = verify_elastic_column(scene, p);
+    return {{"stress_rel_error", v.stress_rel_error},
+            {"settlement_rel_error", v.settlement_rel_error},
+            {"settlement_top_m", v.settlement_top_m},
+            {"settlement_top_expected_m", v.settlement_top_expected_m},
+            {"settlement_surface_expected_m", v.settlement_surface_expected_m}};
+  }
+  if (bar) {
+    const BarVibrationResult v = bar->result();
+    return {{"period_s", v.period_s},
+            {"period_expected_s", v.period_expected_s},
+            {"period_rel_error", v.period_rel_error},
+            {"zero_crossings", static_cast<double>(v.crossings)},
+            {"wave_speed_m_s", v.wave_speed_m_s},
+            {"length_m", v.length_m}};
+  }
+  return {};
+}
+
+std::vector<std::pair<std::string, double>> remote_figures(Solver& solver,
+                                                           std::int64_t rve_particles) {
+  ConstitutiveProvider& provider = solver.provider();
+  return {{"n_rve_particles", static_cast<double>(rve_particles)},
+          {"rebalances", static_cast<double>(provider.rebalances())},
+          {"rve_evaluations", static_cast<double>(provider.rve_evaluations())},
+          {"rve_skipped", static_cast<double>(provider.rve_skipped())},
+          {"rve_no_contact_updates", static_cast<double>(solver.no_contact_updates())},
+          {"rve_no_contact_points_final", static_cast<double>(solver.no_contact_points())}};
 }
 
 }  // namespace run_support

@@ -159,6 +159,12 @@ struct ColumnCollapseParams {
   std::string release_constraint;  // empty: the first velocity constraint (if any)
   double duration_t_star = 6.0;    // stage 2 length [t*]
   std::vector<double> snapshots_t_star{1.0, 3.0, 6.0};
+  // column_collapse.at_rest: end stage 2 once E_k/E_p0 stayed below the ratio for the hold
+  // (analysis/at_rest.hpp).
+  bool at_rest = false;
+  double at_rest_kinetic_ratio = 1e-5;
+  double at_rest_hold_t_star = 0.25;  // [t*]
+  double at_rest_min_t_star = 1.0;    // [t*]
 };
 
 struct Scene {

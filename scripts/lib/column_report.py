@@ -106,6 +106,10 @@ def main(run_dir):
     # Fig. 5: velocity snapshots.
     snaps = sorted(glob.glob(os.path.join(run_dir, "snapshots", "t_star_*.h5")),
                    key=lambda p: float(os.path.basename(p)[7:-3]))
+    # A run ended by the at-rest stop has no snapshots after it: its deposit is the final state.
+    if s.get("stop", {}).get("reason") == "at_rest" and os.path.exists(
+            os.path.join(run_dir, "final_state.h5")):
+        snaps.append(os.path.join(run_dir, "final_state.h5"))
     if snaps:
         files = [h5py.File(p, "r") for p in snaps]
         vmax = max(float(np.linalg.norm(f["v"][:], axis=1).max()) for f in files) or 1.0
@@ -187,7 +191,10 @@ def write_report(run_dir, s, made, rot_note, thin):
         "",
         f"H_i = {H_i:.3f} m, L_i = {L_i:.3f} m, a = {a:.2f}, t* = {s['t_star_s']:.4f} s; "
         f"stage 1 (lateral face held) took {fmt(s.get('stage1_time_s'))} s; stage 2 ran "
-        f"{fmt(s.get('time_over_t_star_final'), 2)} t*.",
+        f"{fmt(s.get('time_over_t_star_final'), 2)} t*"
+        + (" (ended by the at-rest stop: E_k/E_p0 < "
+           f"{s['stop'].get('kinetic_ratio')} for {s['stop'].get('hold_t_star')} t*)"
+           if s.get("stop", {}).get("reason") == "at_rest" else "") + ".",
         "",
         "| figure | this run | reference |",
         "|---|---|---|",
@@ -198,7 +205,7 @@ def write_report(run_dir, s, made, rot_note, thin):
         f"| E_d/E_p0 at the end | {fmt(ed)} | {PAPER_ED_OVER_EP0} (paper); geometric bounds "
         f"{lo_bound:.3f} - {hi_bound:.3f} for this deposit |",
         f"| E_k/E_p0 at the end | {fmt(s.get('Ek_over_Ep0_final'), 4)} | ~0 (deposit at rest by "
-        "6 t*) |",
+        "6 t*; at-rest stop below its kinetic_ratio) |",
         f"| RVE updates with no contacts | {int(s.get('rve_no_contact_updates', 0))} | - |",
         f"| RVE cells tiled because the MPM stretch made them too thin (dem_app log) | {thin} | "
         "- (each doubles that RVE's spheres) |",

@@ -98,7 +98,44 @@ ColumnCollapseMonitor::ColumnCollapseMonitor(const Scene& scene)
     : g_(column_geometry(scene)),
       duration_t_star_(scene.column_collapse.duration_t_star),
       snapshots_t_star_(scene.column_collapse.snapshots_t_star),
-      snapshot_done_(snapshots_t_star_.size(), false) {}
+      snapshot_done_(snapshots_t_star_.size(), false) {
+  const ColumnCollapseParams& cp = scene.column_collapse;
+  if (cp.at_rest) {
+    rest_.emplace(cp.at_rest_kinetic_ratio, cp.at_rest_hold_t_star * g_.t_star,
+                  cp.at_rest_min_t_star * g_.t_star);
+  }
+}
+
+bool ColumnCollapseMonitor::observe_rest(double time, const Particles& p) {
+  if (!rest_ || !release_time_ || rest_->at_rest()) return false;
+  const double E_k = compute_energies(p, Vec3(0.0, 0.0, -g_.g)).E_k;
+  const double ratio =
+      E_p0_release_ > 0.0 ? E_k / E_p0_release_ : std::numeric_limits<double>::quiet_NaN();
+  return rest_->update(time - *release_time_, ratio);
+}
+
+std::string ColumnCollapseMonitor::end_reason(double time) const {
+  if (rest_ && rest_->at_rest()) return "at_rest";
+  if (release_time_ && time >= *release_time_ + duration_t_star_ * g_.t_star * (1.0 - 1e-12))
+    return "duration";
+  return "";
+}
+
+std::vector<std::pair<std::string, double>> ColumnCollapseMonitor::stop_figures(
+    double time, std::int64_t steps) const {
+  if (!rest_) return {};
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const bool at_rest = rest_->at_rest();
+  const double t_star = g_.t_star;
+  return {{"at_rest", at_rest ? 1.0 : 0.0},
+          {"time_s", at_rest ? time : nan},
+          {"step", at_rest ? static_cast<double>(steps) : nan},
+          {"time_over_t_star", at_rest ? *rest_->at_rest_time() / t_star : nan},
+          {"quiet_since_t_star", rest_->quiet_since() ? *rest_->quiet_since() / t_star : nan},
+          {"kinetic_ratio", rest_->kinetic_ratio()},
+          {"hold_t_star", rest_->hold_time() / t_star},
+          {"min_t_star", rest_->earliest_time() / t_star}};
+}
 
 bool ColumnCollapseMonitor::observe(double time, const BoundaryConditions& bc, const Particles& p) {
   if (release_time_) return false;
@@ -110,16 +147,34 @@ bool ColumnCollapseMonitor::observe(double time, const BoundaryConditions& bc, c
   return true;
 }
 
-void ColumnCollapseMonitor::restore(std::optional<double> release_time, double E_p0_release,
-                                    const std::vector<char>& snapshots_done) {
-  release_time_ = release_time;
-  E_p0_release_ = E_p0_release;
-  for (std::size_t k = 0; k < snapshot_done_.size() && k < snapshots_done.size(); ++k)
-    snapshot_done_[k] = snapshots_done[k] != 0;
+ColumnState ColumnCollapseMonitor::state() const {
+  ColumnState s;
+  s.release_time = release_time_;
+  s.E_p0_release = E_p0_release_;
+  s.snapshots_done.assign(snapshot_done_.begin(), snapshot_done_.end());
+  if (rest_) {
+    s.rest_quiet_since = rest_->quiet_since();
+    s.rest_time = rest_->at_rest_time();
+  }
+  return s;
+}
+
+void ColumnCollapseMonitor::restore(const ColumnState& s) {
+  release_time_ = s.release_time;
+  E_p0_release_ = s.E_p0_release;
+  for (std::size_t k = 0; k < snapshot_done_.size() && k < s.snapshots_done.size(); ++k)
+    snapshot_done_[k] = s.snapshots_done[k] != 0;
+  // A checkpoint of a run without column_collapse.at_rest has no window: the wait starts anew.
+  if (rest_) rest_->restore(s.rest_quiet_since, s.rest_time);
+}
+
+double ColumnCollapseMonitor::end_time() const {
+  return release_time_ ? *release_time_ + duration_t_star_ * g_.t_star
+                       : std::numeric_limits<double>::infinity();
 }
 
 bool ColumnCollapseMonitor::done(double time) const {
-  return release_time_ && time >= *release_time_ + duration_t_star_ * g_.t_star * (1.0 - 1e-12);
+  return !end_reason(time).empty();
 }
 
 std::vector<std::string> ColumnCollapseMonitor::due_snapshots(double time, double tol) {

@@ -9,6 +9,8 @@
 // column_collapse.release_constraint until it is released (its own release rule: time, or
 // E_k/E_p0 below a ratio); stage 2 starts at that release, time t_r, and the run ends at
 // t_r + duration_t_star t* (solver.end_time stays a hard cap). Without a constraint, t_r = 0.
+// With column_collapse.at_rest it ends earlier once the deposit is at rest (analysis/at_rest.hpp:
+// E_k/E_p0 below a ratio for a hold time, E_p0 the release value below).
 //
 // Figures (summary.json, top level), at the end of the run:
 //   runout_m           L_f: front of the deposit from the back wall, max_p x_p + s_x/2 - x_back
@@ -21,11 +23,13 @@
 //   stage1_time_s      t_r; t_star_s; time_over_t_star_final ((t_end - t_r) / t*)
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "analysis/at_rest.hpp"
 #include "particles.hpp"
 #include "scene.hpp"
 
@@ -59,6 +63,15 @@ DepositShape measure_deposit(const ColumnGeometry& g, const Particles& p);
 // Potential energy measured from the column's base.
 double potential_energy_above_base(const ColumnGeometry& g, const Particles& p);
 
+// The monitor's state in a checkpoint.
+struct ColumnState {
+  std::optional<double> release_time;  // start of stage 2
+  double E_p0_release = 0.0;
+  std::vector<char> snapshots_done;
+  std::optional<double> rest_quiet_since;  // the at-rest detector's, in stage-2 time
+  std::optional<double> rest_time;
+};
+
 // Follows a run: release time, E_p0 at release, snapshot and end times.
 class ColumnCollapseMonitor {
  public:
@@ -68,9 +81,19 @@ class ColumnCollapseMonitor {
   // constraint. Returns true when stage 2 started in this call.
   bool observe(double time, const BoundaryConditions& bc, const Particles& p);
 
+  // After every stage-2 step (column_collapse.at_rest): feeds E_k/E_p0 to the at-rest
+  // detector. Returns true when the deposit came to rest in this call.
+  bool observe_rest(double time, const Particles& p);
+  // The at-rest detector (null without column_collapse.at_rest).
+  const AtRestDetector* at_rest() const { return rest_ ? &*rest_ : nullptr; }
+  // Why stage 2 ended at `time`: "at_rest", "duration" (duration_t_star), or "" (it did not).
+  std::string end_reason(double time) const;
+
   bool released() const { return release_time_.has_value(); }
   std::optional<double> release_time() const { return release_time_; }
-  // Stage 2 has lasted duration_t_star t*.
+  // t_r + duration_t_star t* (infinite before the release).
+  double end_time() const;
+  // Stage 2 has lasted duration_t_star t*, or the deposit is at rest.
   bool done(double time) const;
   // Snapshots whose time (t_r + k t*) has come since the last call: labels like "t_star_3".
   std::vector<std::string> due_snapshots(double time, double tol);
@@ -79,12 +102,11 @@ class ColumnCollapseMonitor {
 
   const ColumnGeometry& geometry() const { return g_; }
   // Checkpoint state.
-  double E_p0_release() const { return E_p0_release_; }
-  std::vector<char> snapshots_done() const {
-    return std::vector<char>(snapshot_done_.begin(), snapshot_done_.end());
-  }
-  void restore(std::optional<double> release_time, double E_p0_release,
-               const std::vector<char>& snapshots_done);
+  ColumnState state() const;
+  void restore(const ColumnState& s);
+  // summary.json's "stop" figures of the at-rest detector (empty without it): the run ended
+  // at `time` after `steps` steps.
+  std::vector<std::pair<std::string, double>> stop_figures(double time, std::int64_t steps) const;
   // The headline figures for summary.json (see the file comment).
   std::vector<std::pair<std::string, double>> figures(double time, const Particles& p) const;
 
@@ -95,6 +117,7 @@ class ColumnCollapseMonitor {
   std::vector<bool> snapshot_done_;
   std::optional<double> release_time_;
   double E_p0_release_ = 0.0;
+  std::optional<AtRestDetector> rest_;
 };
 
 }  // namespace mpmdem::mpm

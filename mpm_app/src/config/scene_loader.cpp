@@ -332,6 +332,21 @@ ColumnCollapseParams load_column_collapse(const Config& cfg) {
   c.duration_t_star = cfg.number("column_collapse.duration_t_star");
   const auto k = cfg.vec3("column_collapse.snapshots_t_star");
   c.snapshots_t_star.assign(k.begin(), k.end());
+  if (cfg.has("column_collapse.at_rest")) {
+    c.at_rest = true;
+    c.at_rest_kinetic_ratio = cfg.number("column_collapse.at_rest.kinetic_ratio");
+    c.at_rest_hold_t_star = cfg.number("column_collapse.at_rest.hold_t_star");
+    c.at_rest_min_t_star = cfg.number("column_collapse.at_rest.min_t_star");
+    for (const auto& [key, value] : {std::pair{"min_t_star", c.at_rest_min_t_star},
+                                     std::pair{"hold_t_star", c.at_rest_hold_t_star}}) {
+      if (value >= c.duration_t_star) {
+        cfg.fail(std::string("column_collapse.at_rest.") + key,
+                 config::format_number(value) + " is not below column_collapse.duration_t_star " +
+                     config::format_number(c.duration_t_star) +
+                     ": the at-rest stop could never end the run before the duration does");
+      }
+    }
+  }
   return c;
 }
 

@@ -295,6 +295,25 @@ void add_column_collapse_keys(config::Schema& s) {
             "snapshots/t_star_<k>.h5 for the pictures")
             .def("[1, 3, 6]")
             .ge(0));
+  s.add(key("column_collapse.at_rest", Type::kMap, "",
+            "optional: end stage 2 once the deposit is at rest, i.e. E_k/E_p0 (E_p0 at the "
+            "release, from the base) stayed below kinetic_ratio for hold_t_star without a "
+            "break, not before min_t_star; duration_t_star stays the cap. summary.json's "
+            "stop says whether and when (docs/column_collapse.md)"));
+  s.add(key("column_collapse.at_rest.kinetic_ratio", Type::kDouble, "-", "threshold on E_k/E_p0")
+            .req()
+            .gt(0)
+            .lt(1));
+  s.add(key("column_collapse.at_rest.hold_t_star", Type::kDouble, "t*",
+            "how long E_k/E_p0 must stay below the threshold; any step at or above it restarts "
+            "the wait")
+            .req()
+            .gt(0));
+  s.add(key("column_collapse.at_rest.min_t_star", Type::kDouble, "t*",
+            "earliest stage-2 time of the stop (the column is also at rest just after its "
+            "release)")
+            .def("1")
+            .ge(0));
 }
 
 }  // namespace

@@ -86,7 +86,7 @@ void write_mpm_checkpoint(const std::string& dir, const SolverState& s, const Dr
     f.write("constraint_active", to_int32(s.constraint_active));
     f.write("frame_times", d.frame_times, {d.frame_times.size()});
     f.write("provider_state", d.provider_state, {d.provider_state.size()});
-    f.write("snapshots_done", to_int32(d.snapshots_done));
+    f.write("snapshots_done", to_int32(d.column.snapshots_done));
     f.attribute("n_slots", static_cast<std::int64_t>(s.n_slots));
     f.attribute("time", s.time);
     f.attribute("dt", s.dt);
@@ -103,9 +103,13 @@ void write_mpm_checkpoint(const std::string& dir, const SolverState& s, const Dr
     f.attribute("next_energy", d.next_energy);
     f.attribute("last_frame_step", d.last_frame_step);
     f.attribute("last_energy_step", d.last_energy_step);
-    f.attribute("released", static_cast<std::int64_t>(d.release_time.has_value()));
-    f.attribute("release_time", d.release_time.value_or(0.0));
-    f.attribute("E_p0_release", d.E_p0_release);
+    f.attribute("released", static_cast<std::int64_t>(d.column.release_time.has_value()));
+    f.attribute("release_time", d.column.release_time.value_or(0.0));
+    f.attribute("E_p0_release", d.column.E_p0_release);
+    f.attribute("rest_quiet", static_cast<std::int64_t>(d.column.rest_quiet_since.has_value()));
+    f.attribute("rest_quiet_since", d.column.rest_quiet_since.value_or(0.0));
+    f.attribute("rest_reached", static_cast<std::int64_t>(d.column.rest_time.has_value()));
+    f.attribute("rest_time", d.column.rest_time.value_or(0.0));
     f.attribute("step_wall_time_s", d.step_wall_time_s);
     f.attribute("step_cpu_time_s", d.step_cpu_time_s);
     f.attribute("wall_time_s", d.wall_time_s);
@@ -197,9 +201,15 @@ void read_mpm_checkpoint(const std::string& dir, SolverState& s, DriverState& d)
   d.next_energy = f.attribute_double("next_energy");
   d.last_frame_step = f.attribute_int64("last_frame_step");
   d.last_energy_step = f.attribute_int64("last_energy_step");
-  if (f.attribute_int64("released") != 0) d.release_time = f.attribute_double("release_time");
-  d.E_p0_release = f.attribute_double("E_p0_release");
-  d.snapshots_done = to_char(f.read_int32("snapshots_done"));
+  if (f.attribute_int64("released") != 0)
+    d.column.release_time = f.attribute_double("release_time");
+  d.column.E_p0_release = f.attribute_double("E_p0_release");
+  // Checkpoints from before column_collapse.at_rest have no at-rest state: none yet.
+  if (f.has_attribute("rest_quiet") && f.attribute_int64("rest_quiet") != 0)
+    d.column.rest_quiet_since = f.attribute_double("rest_quiet_since");
+  if (f.has_attribute("rest_reached") && f.attribute_int64("rest_reached") != 0)
+    d.column.rest_time = f.attribute_double("rest_time");
+  d.column.snapshots_done = to_char(f.read_int32("snapshots_done"));
   d.step_wall_time_s = f.attribute_double("step_wall_time_s");
   d.step_cpu_time_s = f.attribute_double("step_cpu_time_s");
   d.wall_time_s = f.attribute_double("wall_time_s");

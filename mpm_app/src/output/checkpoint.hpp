@@ -4,7 +4,8 @@
 // Layout: RUN/checkpoints/step_<NNNNNNNNN>/
 //   mpm.h5     the solver state (every particle field at full precision, provider slots,
 //              time, step, time steps, E_p0, constraint flags) and the run driver's state
-//              (next frame/energy times, VTK frame times, column-collapse stage, timing sums)
+//              (next frame/energy times, VTK frame times, column-collapse stage and at-rest
+//              timer, timing sums)
 //   dem/       the DEM servers' RVE states (remote model: kCheckpoint; rank_<r>/...)
 //   COMPLETE   written last, once both sides have saved: a checkpoint without it is ignored
 // Only the newest `output.checkpoints_kept` complete checkpoints are kept.
@@ -17,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/column_collapse.hpp"
 #include "solver.hpp"
 
 namespace mpmdem::mpm {
@@ -28,9 +30,7 @@ struct DriverState {
   std::vector<double> frame_times;  // VTK frames written so far (frame_<k>.vtu)
   std::int64_t last_frame_step = -1;
   std::int64_t last_energy_step = -1;
-  std::optional<double> release_time;  // column collapse: start of stage 2
-  double E_p0_release = 0.0;
-  std::vector<char> snapshots_done;
+  ColumnState column;  // column collapse: stage, snapshots, at-rest timer
   double step_wall_time_s = 0.0, step_cpu_time_s = 0.0, wall_time_s = 0.0;
   double dt_min_s = 0.0, dt_max_s = 0.0, mass_initial_kg = 0.0;
   std::int64_t rve_particles = 0;

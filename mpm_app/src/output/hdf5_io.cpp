@@ -135,6 +135,9 @@ void File::attribute(const std::string& name, const std::string& value) {
   const char* text = value.c_str();
   write_attr(id_, name, type.get(), &text);
 }
+bool File::has_attribute(const std::string& name) const {
+  return H5Aexists(id_, name.c_str()) > 0;
+}
 double File::attribute_double(const std::string& name) const {
   double v = 0.0;
   read_attr(id_, path_, name, H5T_NATIVE_DOUBLE, &v);

@@ -57,6 +57,7 @@ class File {
   void attribute(const std::string& name, double value);
   void attribute(const std::string& name, std::int64_t value);
   void attribute(const std::string& name, const std::string& value);
+  bool has_attribute(const std::string& name) const;
   double attribute_double(const std::string& name) const;
   std::int64_t attribute_int64(const std::string& name) const;
   void flush();

@@ -104,6 +104,15 @@ std::string to_json(const RunSummary& s) {
   w.num("E_d_J", E_d);
   w.num("E_d_over_E_p0", s.E_p0_J != 0.0 ? E_d / s.E_p0_J : 0.0);
   for (const auto& [key, value] : s.analysis) w.num(key, value);
+  if (!s.stop_reason.empty()) {
+    std::ostringstream inner;
+    inner << "{\n";
+    ObjectWriter v(inner, 4);
+    v.str("reason", s.stop_reason);
+    for (const auto& [key, value] : s.stop) v.num(key, value);
+    inner << "\n  }";
+    w.raw("stop", inner.str());
+  }
   if (!s.verification_kind.empty()) {
     std::ostringstream inner;
     inner << "{\n";

@@ -9,6 +9,12 @@
 //                      the wall time but not this)
 //   time_s, end_time_s, dt_min_s, dt_max_s
 //   mass_initial_kg, mass_final_kg, E_p0_J, E_p_J, E_k_J, E_d_J, E_d_over_E_p0
+//   stop               {"reason": ..., <figures>}: why the time loop ended: "end_time"
+//                      (solver.end_time), "duration" (column_collapse.duration_t_star),
+//                      "at_rest" (column_collapse.at_rest), "max_steps", "interrupted", "failed";
+//                      with column_collapse.at_rest also at_rest (1/0), time_s, step,
+//                      time_over_t_star, quiet_since_t_star, kinetic_ratio, hold_t_star,
+//                      min_t_star
 //   verification       {"kind": ..., <error figures of that kind>} (absent for kind none)
 //   <analysis figures> top-level numbers of the scene's analysis (column_collapse: t_star_s,
 //                      runout_m, ...; see analysis/column_collapse.hpp)
@@ -48,6 +54,8 @@ struct RunSummary {
   double E_k_J = 0.0;
   // Figures of an analysis (e.g. column_collapse), written at the top level in this order.
   std::vector<std::pair<std::string, double>> analysis;
+  std::string stop_reason;                                   // empty: no "stop" object
+  std::vector<std::pair<std::string, double>> stop;          // its figures
   std::string verification_kind;                             // empty: none
   std::vector<std::pair<std::string, double>> verification;  // figure name -> value
 };

@@ -116,6 +116,7 @@ def plot(series, paths, names, png, plan):
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import MaxNLocator
 
     fig, ax = plt.subplots(2, len(paths), figsize=(4.2 * len(paths), 6.0), squeeze=False)
     for j, p in enumerate(paths):
@@ -134,6 +135,7 @@ def plot(series, paths, names, png, plan):
         ax[0][j].legend()
         for r in (0, 1):
             ax[r][j].grid(alpha=0.3)
+            ax[r][j].xaxis.set_major_locator(MaxNLocator(5))
     fig.suptitle("%s (%s, %d RVE(s), p0 = %.3g Pa): %s vs %s" % (
         os.path.basename(plan["config"]), ",".join(plan["packings"]) or "inline", plan["rves"],
         plan["pressure"], names[0], names[1]))

@@ -17,3 +17,8 @@ foreach(_case ${_et_cases})
   set_tests_properties(element_test_${_case} PROPERTIES TIMEOUT 240 LABELS integration
                        ENVIRONMENT "${_et_env}" RUN_SERIAL TRUE)
 endforeach()
+# The native case tests the script's wiring (export, lock, scene); the native C++ is covered
+# by ASan unit tests: normal pass only.
+if(TEST element_test_native_script)
+  set_tests_properties(element_test_native_script PROPERTIES LABELS "integration;no_asan")
+endif()

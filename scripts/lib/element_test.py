@@ -1,9 +1,15 @@
 """Helper of scripts/element_test (run under Debian's /usr/bin/python3: yaml, matplotlib).
 
-  element_test.py plan CONFIG OUT_DIR     validate CONFIG, write OUT_DIR/scene.yaml (the
+  element_test.py plan CONFIG OUT_DIR [BACKEND [PATHS]]
+                                          validate CONFIG, write OUT_DIR/scene.yaml (the
                                           config's config_version + coupling: section, with
-                                          packing_dir made absolute) and print the plan as
-                                          shell lines `key value...` (see scripts/element_test)
+                                          packing_dir made absolute; BACKEND, default the
+                                          config's coupling.backend, replaces it; for native
+                                          the coupling.native section is derived from
+                                          coupling.yade, see native_section) and print the
+                                          plan as shell lines `key value...` (see
+                                          scripts/element_test); PATHS (comma-separated)
+                                          keeps only those of the config's tests
   element_test.py report OUT_DIR          read OUT_DIR/plan.json and OUT_DIR/<path>.csv, write
                                           OUT_DIR/element_tests.png and OUT_DIR/summary.json
 
@@ -20,6 +26,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
                                 "python"))  # mpmdem_packing: TABLE1 and the packings: reader
 EXIT_CONFIG = 2
 PATHS = ("isotropic", "triaxial", "constant_volume", "simple_shear")
+BACKENDS = ("elastic", "yade", "native")
 TOP_KEYS = {"config_version", "packings", "coupling", "element_test"}
 # element_test section: key -> (type, default, description)
 SECTION_KEYS = {
@@ -44,7 +51,23 @@ def fail(cfg, key, what):
     raise ConfigFault("%s: %s: %s" % (cfg, key, what))
 
 
-def load_config(path):
+def native_section(path, co):
+    """The coupling.native section of a native run: the keys of coupling.yade that the
+    native backend shares (all but packing_spec; same meaning, docs/dem_backend.md), with
+    packing_dir the YADE library's folder (the <name>.native.txt files are exported next to
+    the <name>.yade.bz2 ones by scripts/export_native_packings), overridden key by key by a
+    coupling.native section of the config when there is one (its packing_dir relative to the
+    working directory, like coupling.yade.packing_dir)."""
+    native = {k: v for k, v in (co.get("yade") or {}).items() if k != "packing_spec"}
+    own = co.get("native") or {}
+    if not isinstance(own, dict):
+        fail(path, "coupling.native", "must be a map")
+    native.update(own)
+    native["packing_dir"] = os.path.abspath(native["packing_dir"]) if native.get("packing_dir") else ""
+    return json.loads(json.dumps(native))  # deep copy
+
+
+def load_config(path, backend=None, paths=None):
     import yaml
 
     try:
@@ -105,15 +128,30 @@ def load_config(path):
         if steps < 2:
             fail(path, where + ".steps", "must be >= 2, got %r" % steps)
         tests.append({"path": t["path"], "strain": strain, "steps": steps})
+    if paths:
+        unknown = [p for p in paths if p not in [t["path"] for t in tests]]
+        if unknown:
+            raise ConfigFault("--paths %s: not among the tests of %s (%s)" % (
+                ",".join(unknown), path, ", ".join(t["path"] for t in tests)))
+        tests = [t for t in tests if t["path"] in paths]
     plan["tests"] = tests
     co = doc["coupling"]
     if not isinstance(co, dict):
         fail(path, "coupling", "must be a map")
     yade = co.get("yade") or {}
-    plan["backend"] = co.get("backend", "elastic")
+    plan["backend"] = backend or co.get("backend", "elastic")
+    if plan["backend"] not in BACKENDS:
+        fail(path, "coupling.backend", "%r is not one of %s" % (plan["backend"], ", ".join(BACKENDS)))
     plan["packing_dir"] = os.path.abspath(yade["packing_dir"]) if yade.get("packing_dir") else ""
     plan["packings"] = list(yade.get("packings") or [])
     plan["ns"] = yade.get("ns", 10)
+    plan["native_dir"] = ""
+    if plan["backend"] == "native":
+        native = native_section(path, co)
+        plan["native_dir"] = native["packing_dir"]
+        plan["packings"] = list(native.get("packings") or [])
+        plan["ns"] = native.get("ns", 10)
+        plan["native"] = native
     if "porosity" not in (co.get("outputs") or []):
         fail(path, "coupling.outputs", "must list porosity (summary.json reports porosity_initial)")
     if plan["packing_dir"] and "packings" in doc:
@@ -180,26 +218,43 @@ def stale_packings(cfg_path, plan, doc):
     return stale
 
 
-def cmd_plan(cfg_path, out):
+def cmd_plan(cfg_path, out, backend=None, paths=None):
     import yaml
 
     try:
-        plan = load_config(cfg_path)
+        plan = load_config(cfg_path, backend, [p for p in (paths or "").split(",") if p])
     except ConfigFault as e:
         print("element_test: config error: %s" % e, file=sys.stderr)
         return EXIT_CONFIG
     os.makedirs(out, exist_ok=True)
     doc = plan.pop("doc")
     coupling = json.loads(json.dumps(doc["coupling"]))  # deep copy
+    coupling["backend"] = plan["backend"]
     if plan["packing_dir"]:
         coupling["yade"]["packing_dir"] = plan["packing_dir"]
+    if plan["backend"] == "native":
+        coupling["native"] = plan.pop("native")
     with open(os.path.join(out, "scene.yaml"), "w") as f:
         f.write("# Written by scripts/element_test from %s (coupling section, packing_dir "
-                "absolute)\n" % plan["config"])
+                "absolute, backend %s)\n" % (plan["config"], plan["backend"]))
         yaml.safe_dump({"config_version": doc["config_version"], "coupling": coupling}, f,
                        sort_keys=False)
+    has = lambda d, n, ext: os.path.exists(os.path.join(d, n + ext))  # noqa: E731
     missing = [n for n in plan["packings"]
-               if plan["packing_dir"] and not os.path.exists(os.path.join(plan["packing_dir"], n + ".yade.bz2"))]
+               if plan["packing_dir"] and not has(plan["packing_dir"], n, ".yade.bz2")]
+    missing_native = []
+    if plan["backend"] == "native" and plan["native_dir"]:
+        # exported (again) when absent or older than the YADE packing it comes from
+        missing_native = [n for n in plan["packings"] if not has(plan["native_dir"], n, ".native.txt")
+                          or (has(plan["packing_dir"], n, ".yade.bz2") and os.path.getmtime(
+                              os.path.join(plan["native_dir"], n + ".native.txt")) < os.path.getmtime(
+                              os.path.join(plan["packing_dir"], n + ".yade.bz2")))]
+        if not plan["packing_dir"] and missing_native:
+            print("element_test: config error: %s: coupling.native.packings: %s not in %s and no "
+                  "coupling.yade.packing_dir to export them from" % (
+                      cfg_path, ", ".join(missing_native), plan["native_dir"]), file=sys.stderr)
+            return EXIT_CONFIG
+        missing = [n for n in missing if n in missing_native]  # YADE packings needed for export
     if missing and not (plan["build_packings"] and "packings" in doc):
         print("element_test: config error: %s: coupling.yade.packings: %s not in %s (add a "
               "packings: block and element_test.build_packings: true, or run scripts/build_packings)"
@@ -212,11 +267,14 @@ def cmd_plan(cfg_path, out):
               file=sys.stderr)
         return EXIT_CONFIG
     plan["missing_packings"] = missing
+    plan["missing_native"] = missing_native
     with open(os.path.join(out, "plan.json"), "w") as f:
         json.dump(plan, f, indent=1)
-    for k in ("server_ranks", "rves", "pressure", "dt", "timeout_s", "backend", "packing_dir"):
+    for k in ("server_ranks", "rves", "pressure", "dt", "timeout_s", "backend", "packing_dir",
+              "native_dir"):
         print(k, plan[k])
     print("missing_packings", " ".join(missing))
+    print("missing_native", " ".join(missing_native))
     for t in plan["tests"]:
         print("test", t["path"], repr(t["strain"]), t["steps"])
     return 0
@@ -319,11 +377,13 @@ def summarise(series, test, pressure):
 def cmd_report(out):
     with open(os.path.join(out, "plan.json")) as f:
         plan = json.load(f)
-    walls = {}
+    walls, cpus = {}, {}
     if os.path.exists(os.path.join(out, "wall_times.txt")):
         for line in open(os.path.join(out, "wall_times.txt")):
-            k, v = line.split()
+            k, v, *cpu = line.split()  # path wall_s [cpu_s of every process the path started]
             walls[k] = float(v)
+            if cpu:
+                cpus[k] = float(cpu[0])
     tests, series = {}, {}
     for t in plan["tests"]:
         csv = os.path.join(out, t["path"] + ".csv")
@@ -332,18 +392,23 @@ def cmd_report(out):
         series[t["path"]] = analyse(read_csv(csv), t, plan["rves"], plan["pressure"])
         tests[t["path"]] = summarise(series[t["path"]], t, plan["pressure"])
         tests[t["path"]]["wall_time_s"] = walls.get(t["path"])
+        tests[t["path"]]["cpu_time_s"] = cpus.get(t["path"])
     if not tests:
         raise SystemExit("element_test: no CSV in %s" % out)
     head = tests.get("triaxial") or next(iter(tests.values()))
     summary = {
         "phi_peak_deg": head["phi_peak_deg"], "phi_cs_deg": head["phi_cs_deg"],
         "porosity_initial": head["porosity_initial"], "wall_time_s": walls.get("total"),
+        "cpu_time_s": cpus.get("total"),
         "headline_from": head["path"],
         "definitions": {
             "phi": "Mohr-Coulomb mobilised angle asin((s1-s3)/(s1+s3)) of the RVE-mean "
                    "stress (compressive principal stresses)",
             "phi_cs_deg": "mean over the last %d %% of the strain reached" % round(100 * CS_TAIL),
-            "porosity_initial": "utils.porosity() after initialise (coupling.outputs: porosity)",
+            "porosity_initial": "porosity after initialise (coupling.outputs: porosity; YADE: "
+                                "utils.porosity(), native: the same formula)",
+            "cpu_time_s": "user + system CPU time of every process started (ompi-server, "
+                          "dem_app, element_test and their mpirun)",
         },
         "config": plan["config"], "backend": plan["backend"], "packings": plan["packings"],
         "pressure_Pa": plan["pressure"], "rves": plan["rves"],
@@ -355,9 +420,10 @@ def cmd_report(out):
     plot(series, tests, os.path.join(out, "element_tests.png"), plan)
     for name, t in tests.items():
         print("element_test: %-16s strain %.4g  phi_peak %.2f deg  phi_cs %.2f deg  porosity0 %.4f"
-              "  eps_v %.4g  wall %s s" % (name, t["strain_reached"], t["phi_peak_deg"],
-                                           t["phi_cs_deg"], t["porosity_initial"],
-                                           t["volumetric_strain_final"], t["wall_time_s"]))
+              "  eps_v %.4g  wall %s s  cpu %s s" % (
+                  name, t["strain_reached"], t["phi_peak_deg"], t["phi_cs_deg"],
+                  t["porosity_initial"], t["volumetric_strain_final"], t["wall_time_s"],
+                  t["cpu_time_s"]))
     print("element_test: wrote %s/summary.json, element_tests.png" % out)
     return 0
 
@@ -384,16 +450,16 @@ def plot(series, tests, png, plan):
         ax[2][j].legend()
         ax[2][j].set_xlabel({"simple_shear": "shear strain gamma",
                              "isotropic": "volumetric strain"}.get(name, "axial strain"))
-    fig.suptitle("%s, %s, %d RVE(s), p0 = %.3g Pa" % (os.path.basename(plan["config"]),
-                                                      ",".join(plan["packings"]) or "inline",
-                                                      plan["rves"], plan["pressure"]))
+    fig.suptitle("%s, backend %s, %s, %d RVE(s), p0 = %.3g Pa" % (
+        os.path.basename(plan["config"]), plan["backend"], ",".join(plan["packings"]) or "inline",
+        plan["rves"], plan["pressure"]))
     fig.tight_layout()
     fig.savefig(png, dpi=90)
 
 
 def main(argv):
-    if len(argv) == 3 and argv[0] == "plan":
-        return cmd_plan(argv[1], argv[2])
+    if 3 <= len(argv) <= 5 and argv[0] == "plan":
+        return cmd_plan(*argv[1:])
     if len(argv) == 2 and argv[0] == "report":
         return cmd_report(argv[1])
     print(__doc__, file=sys.stderr)

@@ -2,16 +2,23 @@
 # elastic backend checked against the closed-form Hencky answer, a triaxial test whose
 # mixed control must hold the lateral stress of the elastic backend, and (when the YADE backend
 # is built) scripts/element_test on configs/element_test/quick.yaml (the four paths through
-# the real YADE server on a 40-sphere packing; outputs checked for physics). Included from
+# the real YADE server on a 40-sphere packing; outputs checked for physics) and the same
+# script with --backend native (isotropic and drained triaxial paths). Included from
 # tests/CMakeLists.txt; tests/integration/element_test.sh kills every process it starts.
 set(_et ${CMAKE_CURRENT_LIST_DIR}/element_test.sh)
 set(_et_env "MPMDEM_BIN=${PROJECT_BINARY_DIR}" "MPMDEM_SRC=${PROJECT_SOURCE_DIR}")
 set(_et_cases elastic_oedometric elastic_triaxial)
 if(MPMDEM_WITH_YADE AND EXISTS /usr/bin/yade AND EXISTS /usr/bin/python3.11-config)
-  list(APPEND _et_cases yade_script)
+  # native_script: the YADE packing is exported to the native format (needs YADE too)
+  list(APPEND _et_cases yade_script native_script)
 endif()
 foreach(_case ${_et_cases})
   add_test(NAME element_test_${_case} COMMAND bash ${_et} ${_case})
   set_tests_properties(element_test_${_case} PROPERTIES TIMEOUT 240 LABELS integration
                        ENVIRONMENT "${_et_env}" RUN_SERIAL TRUE)
 endforeach()
+# The native case tests the script's wiring (export, lock, scene); the native C++ is covered
+# by ASan unit tests: normal pass only.
+if(TEST element_test_native_script)
+  set_tests_properties(element_test_native_script PROPERTIES LABELS "integration;no_asan")
+endif()

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # element_test against a real dem_app (registered by element_test.cmake).
-# Usage: element_test.sh CASE      CASE: elastic_oedometric | elastic_triaxial | yade_script
+# Usage: element_test.sh CASE      CASE: elastic_oedometric | elastic_triaxial | yade_script |
+#                                         native_script
 # Env: MPMDEM_BIN (build dir), MPMDEM_SRC (source dir).
 # Every process started (ompi-server, both mpiruns) is stopped by PID in a trap (pair.sh).
 set -uo pipefail
@@ -170,6 +171,53 @@ print(f"ok: phi_peak {s['phi_peak_deg']:.2f} deg, phi_cs {s['phi_cs_deg']:.2f} d
       f" in the constant-volume paths, p {t['constant_volume']['p_initial_Pa']:.4g} -> "
       f"{t['constant_volume']['p_final_Pa']:.4g} Pa (drained eps_v {t['triaxial']['volumetric_strain_final']:.4g}); "
       f"wall {s['wall_time_s']:.1f} s")
+PY
+    ;;
+  native_script)
+    # scripts/element_test --backend native on configs/element_test/quick.yaml, isotropic and
+    # drained triaxial paths only: the 40-sphere YADE packing is built, exported to
+    # <name>.native.txt under the packing library's lock, and served by dem_app --backend
+    # native. Checked against properties that do not come from the native code itself.
+    rc=0
+    MPMDEM_BUILD=$bin "$src/scripts/element_test" "$src/configs/element_test/quick.yaml" \
+      --backend native --paths isotropic,triaxial --out "$work/out" || rc=$?
+    [[ $rc == 0 ]] || { echo "FAIL: scripts/element_test --backend native exited $rc" >&2; exit 1; }
+    grep -q "^  backend: native$" "$work/out/scene.yaml" || { echo "FAIL: scene.yaml backend" >&2; exit 1; }
+    /usr/bin/python3 - "$work/out" "$work/runs/packings/quick/quick_s4.json" <<'PY' || exit 1
+import csv, json, math, os, sys
+out, packing_json = sys.argv[1], sys.argv[2]
+s = json.load(open(os.path.join(out, "summary.json")))
+t = s["tests"]
+assert s["backend"] == "native", s["backend"]
+P = s["pressure_Pa"]
+tol = 0.01  # quick.yaml coupling.yade.consolidation_tol, inherited by coupling.native
+for name in ("isotropic", "triaxial"):
+    assert t[name]["fatal_status_rows"] == 0 and t[name]["no_contact_rows"] == 0, (name, t[name])
+rows = list(csv.DictReader(open(os.path.join(out, "isotropic.csv"))))
+r0, r1 = rows[0], rows[-1]
+# 1. Initialise consolidates to the isotropic stress -P (RveInit): every principal stress within
+#    consolidation_tol of it.
+for c in ("sigma_xx", "sigma_yy", "sigma_zz"):
+    assert abs(float(r0[c]) + P) <= tol * P, f"initial {c} {r0[c]} Pa, target {-P} Pa +- {100 * tol} %"
+# (Reported only: the porosity YADE wrote at build time; the native servo re-checks the stress
+# and may strain the cell within the tolerance, measured 1e-5 relative.)
+por_yade = json.load(open(packing_json))["porosity"]
+# 2. Isotropic compression: 0 < bulk modulus K = dp/deps_v <= constrained modulus bound M_b of the
+#    reply (affine/Voigt bound of linear contacts, docs/dem_backend.md: K <= M_V <= M_b).
+K = (float(r1["p"]) - float(r0["p"])) / t["isotropic"]["volumetric_strain_final"]
+Mb = float(r0["stiffness"])
+assert 0 < K <= Mb, f"bulk modulus {K:.4g} Pa outside (0, M_b = {Mb:.4g}]"
+# 3. Drained triaxial: lateral stress held at P, mobilised friction in the published range of
+#    frictional spheres (Thornton 2000: 15-40 deg peak), critical state not above the peak.
+x = t["triaxial"]
+assert x["lateral_stress_max_rel_error_2nd_half"] <= 0.15, x
+assert 15 <= x["phi_peak_deg"] <= 40, f"phi_peak {x['phi_peak_deg']}"
+assert 0 < x["phi_cs_deg"] <= x["phi_peak_deg"] + 1e-9, f"phi_cs {x['phi_cs_deg']}"
+assert x["p_final_Pa"] > x["p_initial_Pa"], "p must grow (lateral held, axial stress up)"
+print(f"ok: native: initial sigma_ii within {max(abs(float(r0[c]) + P) for c in ('sigma_xx', 'sigma_yy', 'sigma_zz')) / P:.1e}"
+      f" of -P; porosity {t['isotropic']['porosity_initial']:.6f} (YADE {por_yade:.6f}); K {K:.3g} <= M_b {Mb:.3g} Pa;"
+      f" phi_peak {x['phi_peak_deg']:.2f} deg, phi_cs {x['phi_cs_deg']:.2f} deg, lateral within "
+      f"{100 * x['lateral_stress_max_rel_error_2nd_half']:.1f} %; wall {s['wall_time_s']:.1f} s, CPU {s['cpu_time_s']:.1f} s")
 PY
     ;;
   *)

@@ -78,22 +78,24 @@ void compute_forces(RveState& s, NeighbourList& nl) {
     c.swap_remove(k);
   }
   const Material& m = s.material;
-  for (std::size_t p = 0; p < nl.n_pairs(); ++p) {
-    if (nl.pair_in_contact(p)) continue;
-    const std::uint32_t a = nl.pair_i(p), b = nl.pair_j(p);
-    const Eigen::Vector3i& cell = nl.pair_cell(p);
-    const Vec3 d =
-        (cell == Eigen::Vector3i::Zero() ? sp.pos[b] : Vec3(sp.pos[b] + s.cell.shift(cell))) -
-        sp.pos[a];
-    const double r = sp.radius[a] + sp.radius[b];
-    if (r * r - d.squaredNorm() < 0) continue;  // Ig2_Sphere_Sphere_ScGeom's test
-    const FrictPhys phys = frict_phys(m.young, sp.radius[a], m.ks_kn, m.friction_angle, m.young,
-                                      sp.radius[b], m.ks_kn, m.friction_angle);
-    const std::size_t k = c.add(a, b, nl.pair_cell(p), phys.kn, phys.ks, phys.tan_phi);
-    nl.contact_added(p, k);
-    if (!update_contact(s, k, true)) {
-      nl.contact_removed(k, k);
-      c.swap_remove(k);
+  for (std::uint32_t a = 0; a < sp.size(); ++a) {
+    const std::size_t row_end = nl.row_begin(a + 1);
+    for (std::size_t p = nl.row_begin(a); p < row_end; ++p) {
+      if (nl.pair_in_contact(p)) continue;
+      const std::uint32_t b = nl.pair_j(p);
+      const bool zero = nl.pair_cell_zero(p);
+      const Vec3 d =
+          (zero ? sp.pos[b] : Vec3(sp.pos[b] + s.cell.shift(nl.pair_cell(p)))) - sp.pos[a];
+      const double r = sp.radius[a] + sp.radius[b];
+      if (r * r - d.squaredNorm() < 0) continue;  // Ig2_Sphere_Sphere_ScGeom's test
+      const FrictPhys phys = frict_phys(m.young, sp.radius[a], m.ks_kn, m.friction_angle, m.young,
+                                        sp.radius[b], m.ks_kn, m.friction_angle);
+      const std::size_t k = c.add(a, b, nl.pair_cell(p), phys.kn, phys.ks, phys.tan_phi);
+      nl.contact_added(p, k);
+      if (!update_contact(s, k, true)) {
+        nl.contact_removed(k, k);
+        c.swap_remove(k);
+      }
     }
   }
 }

@@ -1,6 +1,8 @@
 // Structure-of-arrays containers of a native RVE: see rve_state.hpp.
 #include "backends/native/rve_state.hpp"
 
+#include <algorithm>
+
 namespace mpmdem::dem::native {
 
 void Spheres::resize(std::size_t n) {
@@ -25,6 +27,38 @@ void Spheres::push_back(double r, double m, double inertia_value, const Vec3& x)
   pos[n] = x;
 }
 
+namespace {
+template <typename T>
+std::size_t cap(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+template <typename T>
+void fit_to(std::vector<T>& v, std::size_t n) {
+  if (v.capacity() == n) return;
+  std::vector<T> w;
+  w.reserve(n);
+  w.assign(v.begin(), v.end());
+  v.swap(w);
+}
+}  // namespace
+
+std::size_t Spheres::heap_bytes() const {
+  return cap(radius) + cap(mass) + cap(inertia) + cap(pos) + cap(vel) + cap(ang_vel) + cap(ori) +
+         cap(ref_ori) + cap(force) + cap(torque);
+}
+
+std::size_t Contacts::heap_bytes() const {
+  return cap(id1) + cap(id2) + cap(cell) + cap(normal) + cap(shear_force) + cap(normal_force) +
+         cap(kn) + cap(ks) + cap(tan_phi) + cap(penetration);
+}
+
+void Contacts::fit() {
+  const std::size_t n = std::max<std::size_t>(16, size() + size() / 8);
+  fit_to(id1, n), fit_to(id2, n), fit_to(cell, n), fit_to(normal, n), fit_to(shear_force, n);
+  fit_to(normal_force, n), fit_to(kn, n), fit_to(ks, n), fit_to(tan_phi, n);
+  fit_to(penetration, n);
+}
+
 void Contacts::clear() {
   id1.clear();
   id2.clear();
@@ -40,6 +74,7 @@ void Contacts::clear() {
 
 std::size_t Contacts::add(std::uint32_t a, std::uint32_t b, const Eigen::Vector3i& c,
                           double kn_value, double ks_value, double tan_value) {
+  if (id1.size() == id1.capacity()) fit();
   id1.push_back(a);
   id2.push_back(b);
   cell.push_back(c);

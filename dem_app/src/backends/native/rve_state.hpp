@@ -31,6 +31,7 @@ struct Spheres {
   std::size_t size() const { return radius.size(); }
   void resize(std::size_t n);
   void push_back(double r, double m, double inertia_value, const Vec3& x);
+  std::size_t heap_bytes() const;  // allocated capacity of all arrays
 };
 
 // Real contacts (Interaction with ScGeom + FrictPhys): body 2's image is pos2 + hsize * cell.
@@ -49,6 +50,9 @@ struct Contacts {
                   double ks_value, double tan_value);
   // Removes contact k by moving the last one into its place.
   void swap_remove(std::size_t k);
+  std::size_t heap_bytes() const;  // allocated capacity of all arrays
+  // Capacity = size + 1/8 (at least 16): the arrays grow by 1/8 instead of doubling.
+  void fit();
 };
 
 struct RveState {

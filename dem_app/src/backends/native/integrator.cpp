@@ -34,7 +34,7 @@ void cundall_damp(double damping, double dt, const Vec3& vel, Vec3& accel) {
 }
 
 // Updates contact k with ScGeom + CundallStrack; false when it opened (YADE erases it).
-inline bool update_contact(RveState& s, std::size_t k, bool is_new) {
+inline bool update_contact(RveState& s, std::size_t k, bool is_new, double tan_phi) {
   auto& c = s.contacts;
   auto& sp = s.spheres;
   const std::uint32_t a = c.id1[k], b = c.id2[k];
@@ -48,8 +48,8 @@ inline bool update_contact(RveState& s, std::size_t k, bool is_new) {
   c.normal[k] = g.normal;
   c.penetration[k] = g.penetration;
   if (g.penetration < 0) return false;
-  const FrictPhys phys{c.kn[k], c.ks[k], c.tan_phi[k]};
-  const Vec3 f = cundall_strack(g, phys, c.normal_force[k], c.shear_force[k]);
+  const FrictPhys phys{c.kn[k], c.ks[k], tan_phi};
+  const Vec3 f = cundall_strack(g, phys, c.shear_force[k]);
   const Vec3 nf = g.normal.cross(f);
   sp.force[a] += f;
   sp.force[b] -= f;
@@ -68,8 +68,9 @@ void compute_forces(RveState& s, NeighbourList& nl) {
   }
   nl.ensure(s);
   auto& c = s.contacts;
+  const double tan_phi = std::tan(s.material.friction_angle);  // one material per RVE
   for (std::size_t k = 0; k < c.size();) {
-    if (update_contact(s, k, false)) {
+    if (update_contact(s, k, false, tan_phi)) {
       ++k;
       continue;
     }
@@ -90,9 +91,9 @@ void compute_forces(RveState& s, NeighbourList& nl) {
       if (r * r - d.squaredNorm() < 0) continue;  // Ig2_Sphere_Sphere_ScGeom's test
       const FrictPhys phys = frict_phys(m.young, sp.radius[a], m.ks_kn, m.friction_angle, m.young,
                                         sp.radius[b], m.ks_kn, m.friction_angle);
-      const std::size_t k = c.add(a, b, nl.pair_cell(p), phys.kn, phys.ks, phys.tan_phi);
+      const std::size_t k = c.add(a, b, nl.pair_cell(p), phys.kn, phys.ks);
       nl.contact_added(p, k);
-      if (!update_contact(s, k, true)) {
+      if (!update_contact(s, k, true, phys.tan_phi)) {
         nl.contact_removed(k, k);
         c.swap_remove(k);
       }

@@ -48,15 +48,14 @@ std::size_t Spheres::heap_bytes() const {
 }
 
 std::size_t Contacts::heap_bytes() const {
-  return cap(id1) + cap(id2) + cap(cell) + cap(normal) + cap(shear_force) + cap(normal_force) +
-         cap(kn) + cap(ks) + cap(tan_phi) + cap(penetration);
+  return cap(id1) + cap(id2) + cap(cell) + cap(normal) + cap(shear_force) + cap(kn) + cap(ks) +
+         cap(penetration);
 }
 
 void Contacts::fit() {
   const std::size_t n = std::max<std::size_t>(16, size() + size() / 8);
   fit_to(id1, n), fit_to(id2, n), fit_to(cell, n), fit_to(normal, n), fit_to(shear_force, n);
-  fit_to(normal_force, n), fit_to(kn, n), fit_to(ks, n), fit_to(tan_phi, n);
-  fit_to(penetration, n);
+  fit_to(kn, n), fit_to(ks, n), fit_to(penetration, n);
 }
 
 void Contacts::clear() {
@@ -65,25 +64,21 @@ void Contacts::clear() {
   cell.clear();
   normal.clear();
   shear_force.clear();
-  normal_force.clear();
   kn.clear();
   ks.clear();
-  tan_phi.clear();
   penetration.clear();
 }
 
 std::size_t Contacts::add(std::uint32_t a, std::uint32_t b, const Eigen::Vector3i& c,
-                          double kn_value, double ks_value, double tan_value) {
+                          double kn_value, double ks_value) {
   if (id1.size() == id1.capacity()) fit();
   id1.push_back(a);
   id2.push_back(b);
   cell.push_back(c);
   normal.push_back(Vec3::Zero());
   shear_force.push_back(Vec3::Zero());
-  normal_force.push_back(Vec3::Zero());
   kn.push_back(kn_value);
   ks.push_back(ks_value);
-  tan_phi.push_back(tan_value);
   penetration.push_back(0.0);
   return id1.size() - 1;
 }
@@ -96,10 +91,8 @@ void Contacts::swap_remove(std::size_t k) {
     cell[k] = cell[last];
     normal[k] = normal[last];
     shear_force[k] = shear_force[last];
-    normal_force[k] = normal_force[last];
     kn[k] = kn[last];
     ks[k] = ks[last];
-    tan_phi[k] = tan_phi[last];
     penetration[k] = penetration[last];
   }
   id1.pop_back();
@@ -107,10 +100,8 @@ void Contacts::swap_remove(std::size_t k) {
   cell.pop_back();
   normal.pop_back();
   shear_force.pop_back();
-  normal_force.pop_back();
   kn.pop_back();
   ks.pop_back();
-  tan_phi.pop_back();
   penetration.pop_back();
 }
 

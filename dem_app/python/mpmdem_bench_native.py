@@ -9,8 +9,9 @@ on the packing as saved (no consolidation) with a monotonic oedometric increment
 dF = diag(1, 1, 1 - 5e-6) (1 % strain over 2000 steps). Not alternating increments: at
 ns = 2 the velGrad-lag correction then makes the cell's rate grow step after step (see
 docs/dem_backend.md, native backend).
-With --raw, each round also runs raw YADE on the packing (O.cell.velGrad = L, ns x O.step(),
-utils.getStress() per coupling step: YADE without the server around it).
+With --raw, each round also runs raw YADE on the packing with the server's engines
+(mpmdem_packing.engines without triax; O.cell.velGrad = L, ns x O.step(), utils.getStress()
+per coupling step: YADE without the server around it).
 Prints particle-steps/s (spheres * ns * coupling steps / wall) per backend, the median over
 rounds, the ratios, and the native binary state size and encode/decode times; --json writes
 them.
@@ -71,6 +72,9 @@ def raw_rate(ns):
     scene = O.addScene()
     O.switchToScene(scene)
     O.load(os.path.join(a.packing_dir, a.packing + ".yade.bz2"))
+    # The engines the server steps with (mpmdem_rve.RveSet._setup_engines: no triax).
+    O.engines = pk.engines(y, 0.2, False)
+    O.engines[1].allowBiggerThanPeriod = True
     n = len(O.bodies)
     L = y.Matrix3(0, 0, 0, 0, 0, 0, 0, 0, math.log(dfs[0][8]) / (ns * O.dt))
     step, stress = O.step, y.utils.getStress

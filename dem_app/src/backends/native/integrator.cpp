@@ -62,6 +62,10 @@ inline bool update_contact(RveState& s, std::size_t k, bool is_new, double tan_p
 
 void compute_forces(RveState& s, NeighbourList& nl) {
   auto& sp = s.spheres;
+  if (sp.force.size() != sp.size()) {  // released between coupling steps
+    sp.force.resize(sp.size());
+    sp.torque.resize(sp.size());
+  }
   for (std::size_t i = 0; i < sp.size(); ++i) {
     sp.force[i].setZero();
     sp.torque[i].setZero();

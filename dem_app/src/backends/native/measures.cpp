@@ -85,7 +85,7 @@ double coordination(const RveState& s) {
 double unbalanced_force(const RveState& s) {
   const auto& sp = s.spheres;
   const auto& c = s.contacts;
-  if (sp.size() == 0 || c.size() == 0) return 0.0;
+  if (sp.size() == 0 || c.size() == 0 || sp.force.size() != sp.size()) return 0.0;
   double body = 0, contact = 0;
   for (const auto& f : sp.force) body += f.norm();
   for (std::size_t k = 0; k < c.size(); ++k) {

@@ -88,6 +88,8 @@ void NativeBackend::initialise(const protocol::RveInit* init, protocol::RveReply
     RveRecord& r = rves_.back();
     if (goal.cwiseAbs().maxCoeff() > 0) native::consolidate(r.state, lists_.back(), goal, cp);
     native::finish_preparation(r.state, lists_.back(), p_.damping);
+    r.unbalanced = native::unbalanced_force(r.state);
+    r.state.spheres.release_forces();
     r.p0 = std::max(std::abs(mean), 1.0);
     fill_reply(k, as_int(protocol::RveStatus::kOk),
                static_cast<std::int32_t>(r.state.spheres.size()), reply[k]);
@@ -160,7 +162,7 @@ void NativeBackend::fill_reply(std::size_t k, std::int32_t status, std::int32_t 
     if (o & protocol::kOutputPorosity) reply.porosity = native::porosity(s);
     if (o & protocol::kOutputCoordination) reply.coordination = native::coordination(s);
     if ((o & protocol::kOutputUnbalancedForce) && contacts) {
-      reply.unbalanced_force = native::unbalanced_force(s);
+      reply.unbalanced_force = rves_[k].unbalanced;
     }
   }
   reply.status = status;
@@ -198,6 +200,8 @@ void NativeBackend::step(const protocol::ControlHeader& header, const protocol::
       if (!(req[k].flags & (protocol::kFlagQueryOnly | protocol::kFlagSkip))) {
         ns = n_substeps(req[k].dF);
         burst(k, req[k].dF, ns);
+        rves_[k].unbalanced = native::unbalanced_force(rves_[k].state);
+        rves_[k].state.spheres.release_forces();
       }
       const native::RveState& s = rves_[k].state;
       std::int32_t status = as_int(protocol::RveStatus::kOk);

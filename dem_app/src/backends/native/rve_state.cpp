@@ -47,6 +47,11 @@ std::size_t Spheres::heap_bytes() const {
          cap(ref_ori) + cap(force) + cap(torque);
 }
 
+void Spheres::release_forces() {
+  std::vector<Vec3>().swap(force);
+  std::vector<Vec3>().swap(torque);
+}
+
 std::size_t Contacts::heap_bytes() const {
   return cap(id1) + cap(id2) + cap(cell) + cap(normal) + cap(shear_force) + cap(kn) + cap(ks) +
          cap(penetration);

@@ -28,11 +28,14 @@ struct Spheres {
   std::vector<double> radius, mass, inertia;  // per sphere [m], [kg], [kg m2]
   std::vector<Vec3> pos, vel, ang_vel;        // unwrapped positions, as YADE keeps them
   std::vector<Quat> ori, ref_ori;             // orientation, and the one rotation counts from
-  std::vector<Vec3> force, torque;            // accumulated in the current step
+  // Accumulated in a DEM step. Scratch: the backend releases them after each coupling step
+  // (release_forces; compute_forces sizes them again), so a resident RVE does not keep them.
+  std::vector<Vec3> force, torque;
   std::size_t size() const { return radius.size(); }
   void resize(std::size_t n);
   void push_back(double r, double m, double inertia_value, const Vec3& x);
   std::size_t heap_bytes() const;  // allocated capacity of all arrays
+  void release_forces();
 };
 
 // Real contacts (Interaction with ScGeom + FrictPhys): body 2's image is pos2 + hsize * cell.

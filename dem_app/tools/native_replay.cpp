@@ -97,6 +97,13 @@ int main(int argc, char** argv) {
       const long after = resident_kb();
       std::printf("resident_rves %ld rss_kb_per_rve %.1f\n", resident,
                   static_cast<double>(after - before) / static_cast<double>(resident));
+      // Where it goes (allocated capacity of RVE 0's arrays).
+      const auto& s0 = many.rve(0).state;
+      std::printf(
+          "heap_kb spheres %.1f (%zu) contacts %.1f (%zu) neighbour_list %.1f (%zu pairs)\n",
+          s0.spheres.heap_bytes() / 1024.0, s0.spheres.size(), s0.contacts.heap_bytes() / 1024.0,
+          s0.contacts.size(), many.neighbour_list(0).heap_bytes() / 1024.0,
+          many.neighbour_list(0).n_pairs());
       return 0;
     }
     mpmdem::dem::NativeBackend b(p);

@@ -146,6 +146,28 @@ TEST(NativeBackend, CheckpointRoundTripAndMigrationAreBitwise) {
   EXPECT_EQ(dem::native::encode(a->rve(1)), dem::native::encode(c->rve(0)));
 }
 
+// OpenMP over a rank's RVEs: each RVE is advanced by one thread, so two threads give the
+// same bits as one (whatever order the RVEs finish in).
+TEST(NativeBackend, ThreadsOverRvesGiveTheSameBits) {
+  RveReply init[4];
+  auto one = make(0, 4, kP0, init);
+  auto two = make(0, 4, kP0, init);
+  one->set_threads(1);
+  two->set_threads(2);
+  std::mt19937_64 rng(3);
+  RveReply r1[4], r2[4];
+  for (int n = 1; n <= 4; ++n) {
+    std::vector<RowMajor3> dF;
+    for (int k = 0; k < 4; ++k) dF.push_back(random_dF(rng));
+    step(*one, n, dF, r1);
+    step(*two, n, dF, r2);
+    for (int k = 0; k < 4; ++k) EXPECT_TRUE(same_bits(r1[k], r2[k])) << "RVE " << k;
+  }
+  for (std::size_t k = 0; k < 4; ++k) {
+    EXPECT_EQ(dem::native::encode(one->rve(k)), dem::native::encode(two->rve(k)));
+  }
+}
+
 TEST(NativeBackend, CorruptStateIsRefused) {
   dem::native::RveRecord r;
   r.state.spheres.push_back(1e-3, 1e-5, 4e-12, dem::native::Vec3::Zero());

@@ -141,7 +141,7 @@ TEST(NativeContact, ShearSpringTurnsWithARigidRotationOfThePair) {
     EXPECT_LT((s.contacts.shear_force[0] - expected).norm(), 2e-3 * fs0.norm())
         << "axis " << axis.transpose() << ": " << s.contacts.shear_force[0].transpose() << " vs "
         << expected.transpose();
-    EXPECT_NEAR(s.contacts.normal_force[0].norm(), kE * kR * kDelta, 1e-6 * kE * kR * kDelta);
+    EXPECT_NEAR(s.contacts.normal_force(0).norm(), kE * kR * kDelta, 1e-6 * kE * kR * kDelta);
   }
 }
 

@@ -9,7 +9,7 @@ namespace mpmdem::dem::native {
 
 namespace {
 
-constexpr char kMagic[8] = {'M', 'P', 'M', 'D', 'N', 'A', 'T', '1'};
+constexpr char kMagic[8] = {'M', 'P', 'M', 'D', 'N', 'A', 'T', '3'};
 
 class Out {
  public:
@@ -86,14 +86,14 @@ std::string encode(const RveRecord& r) {
   o.put_vector(sp.radius), o.put_vector(sp.mass), o.put_vector(sp.inertia);
   o.put_vector(sp.pos), o.put_vector(sp.vel), o.put_vector(sp.ang_vel);
   o.put_vector(sp.ori), o.put_vector(sp.ref_ori);
-  o.put_vector(sp.force), o.put_vector(sp.torque);
   const Contacts& c = s.contacts;
   o.put_vector(c.id1), o.put_vector(c.id2), o.put_vector(c.cell);
-  o.put_vector(c.normal), o.put_vector(c.shear_force), o.put_vector(c.normal_force);
-  o.put_vector(c.kn), o.put_vector(c.ks), o.put_vector(c.tan_phi), o.put_vector(c.penetration);
+  o.put_vector(c.normal), o.put_vector(c.shear_force);
+  o.put_vector(c.kn), o.put_vector(c.ks), o.put_vector(c.penetration);
   o.put(r.point);
   o.put(r.p0);
   o.put(r.tilings);
+  o.put(r.unbalanced);
   o.put_vector(std::vector<char>(r.packing.begin(), r.packing.end()));
   return o.take();
 }
@@ -113,24 +113,23 @@ RveRecord decode(const std::string& blob) {
   in.get_vector(sp.radius), in.get_vector(sp.mass), in.get_vector(sp.inertia);
   in.get_vector(sp.pos), in.get_vector(sp.vel), in.get_vector(sp.ang_vel);
   in.get_vector(sp.ori), in.get_vector(sp.ref_ori);
-  in.get_vector(sp.force), in.get_vector(sp.torque);
   Contacts& c = s.contacts;
   in.get_vector(c.id1), in.get_vector(c.id2), in.get_vector(c.cell);
-  in.get_vector(c.normal), in.get_vector(c.shear_force), in.get_vector(c.normal_force);
-  in.get_vector(c.kn), in.get_vector(c.ks), in.get_vector(c.tan_phi), in.get_vector(c.penetration);
+  in.get_vector(c.normal), in.get_vector(c.shear_force);
+  in.get_vector(c.kn), in.get_vector(c.ks), in.get_vector(c.penetration);
   in.get(r.point);
   in.get(r.p0);
   in.get(r.tilings);
+  in.get(r.unbalanced);
   std::vector<char> name;
   in.get_vector(name);
   r.packing.assign(name.begin(), name.end());
   const std::size_t n = sp.radius.size(), m = c.id1.size();
-  const bool consistent =
-      sp.mass.size() == n && sp.inertia.size() == n && sp.pos.size() == n && sp.vel.size() == n &&
-      sp.ang_vel.size() == n && sp.ori.size() == n && sp.ref_ori.size() == n &&
-      sp.force.size() == n && sp.torque.size() == n && c.id2.size() == m && c.cell.size() == m &&
-      c.normal.size() == m && c.shear_force.size() == m && c.normal_force.size() == m &&
-      c.kn.size() == m && c.ks.size() == m && c.tan_phi.size() == m && c.penetration.size() == m;
+  const bool consistent = sp.mass.size() == n && sp.inertia.size() == n && sp.pos.size() == n &&
+                          sp.vel.size() == n && sp.ang_vel.size() == n && sp.ori.size() == n &&
+                          sp.ref_ori.size() == n && c.id2.size() == m && c.cell.size() == m &&
+                          c.normal.size() == m && c.shear_force.size() == m && c.kn.size() == m &&
+                          c.ks.size() == m && c.penetration.size() == m;
   if (!consistent || !in.done()) In::fail();
   for (std::size_t k = 0; k < m; ++k) {
     if (c.id1[k] >= n || c.id2[k] >= n) In::fail();

@@ -18,6 +18,7 @@ struct RveRecord {
   double p0 = 1.0;          // initial mean pressure magnitude [Pa] (explosion threshold)
   std::string packing;      // packing name, empty for a built cloud
   std::int64_t tilings = 0;
+  double unbalanced = 0;  // unbalanced force ratio after the last step (forces not kept)
 };
 
 std::string encode(const RveRecord& r);

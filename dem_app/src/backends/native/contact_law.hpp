@@ -72,10 +72,11 @@ inline void rotate_shear(Eigen::Vector3d& fs, const ScGeom& g) {
 }
 
 // Law2_ScGeom_FrictPhys_CundallStrack for an overlapping pair (g.penetration >= 0): updates
-// the normal and shear forces; returns the force on sphere 1 (sphere 2 gets its opposite).
+// the shear force; returns the force on sphere 1 (sphere 2 gets its opposite). The normal
+// force kn max(penetration, 0) normal is not kept (Contacts::normal_force recomputes it).
 inline Eigen::Vector3d cundall_strack(const ScGeom& g, const FrictPhys& p,
-                                      Eigen::Vector3d& normal_force, Eigen::Vector3d& shear_force) {
-  normal_force = p.kn * std::max(g.penetration, 0.0) * g.normal;
+                                      Eigen::Vector3d& shear_force) {
+  const Eigen::Vector3d normal_force = p.kn * std::max(g.penetration, 0.0) * g.normal;
   rotate_shear(shear_force, g);
   shear_force -= p.ks * g.shear_inc;
   const double max_fs = normal_force.squaredNorm() * std::pow(p.tan_phi, 2);

@@ -9,8 +9,22 @@ namespace mpmdem::dem::native {
 
 namespace {
 
+// Branch-free (the sign of an acceleration component is unpredictable): same values.
 double sign(double x) {
-  return x > 0 ? 1.0 : (x < 0 ? -1.0 : 0.0);
+  return static_cast<double>((x > 0) - (x < 0));
+}
+
+// Eigen's Quaternion(AngleAxis(angle, axis)) = (cos h, sin h axis), h = angle / 2, with the
+// Taylor series of sin and cos when h < 1e-3: their next terms (h^7/5040, h^8/40320) are
+// below 1e-20 of the result, so this agrees with libm to rounding, without the sincos call
+// (a sphere turns by ~1e-6 rad per DEM step).
+Quat rotation_quaternion(double angle, const Vec3& axis) {
+  const double h = 0.5 * angle;
+  if (h >= 1e-3) return Quat(Eigen::AngleAxisd(angle, axis));
+  const double h2 = h * h;
+  const double s = h * (1 - h2 / 6 * (1 - h2 / 20));
+  const double c = 1 - h2 / 2 * (1 - h2 / 12 * (1 - h2 / 30));
+  return Quat(c, s * axis[0], s * axis[1], s * axis[2]);
 }
 
 // NewtonIntegrator::cundallDamp2nd.
@@ -20,7 +34,7 @@ void cundall_damp(double damping, double dt, const Vec3& vel, Vec3& accel) {
 }
 
 // Updates contact k with ScGeom + CundallStrack; false when it opened (YADE erases it).
-bool update_contact(RveState& s, std::size_t k, bool is_new) {
+inline bool update_contact(RveState& s, std::size_t k, bool is_new, double tan_phi) {
   auto& c = s.contacts;
   auto& sp = s.spheres;
   const std::uint32_t a = c.id1[k], b = c.id2[k];
@@ -34,12 +48,13 @@ bool update_contact(RveState& s, std::size_t k, bool is_new) {
   c.normal[k] = g.normal;
   c.penetration[k] = g.penetration;
   if (g.penetration < 0) return false;
-  const FrictPhys phys{c.kn[k], c.ks[k], c.tan_phi[k]};
-  const Vec3 f = cundall_strack(g, phys, c.normal_force[k], c.shear_force[k]);
+  const FrictPhys phys{c.kn[k], c.ks[k], tan_phi};
+  const Vec3 f = cundall_strack(g, phys, c.shear_force[k]);
+  const Vec3 nf = g.normal.cross(f);
   sp.force[a] += f;
   sp.force[b] -= f;
-  sp.torque[a] += (sp.radius[a] - 0.5 * g.penetration) * g.normal.cross(f);
-  sp.torque[b] += (sp.radius[b] - 0.5 * g.penetration) * g.normal.cross(f);
+  sp.torque[a] += (sp.radius[a] - 0.5 * g.penetration) * nf;
+  sp.torque[b] += (sp.radius[b] - 0.5 * g.penetration) * nf;
   return true;
 }
 
@@ -47,14 +62,19 @@ bool update_contact(RveState& s, std::size_t k, bool is_new) {
 
 void compute_forces(RveState& s, NeighbourList& nl) {
   auto& sp = s.spheres;
+  if (sp.force.size() != sp.size()) {  // released between coupling steps
+    sp.force.resize(sp.size());
+    sp.torque.resize(sp.size());
+  }
   for (std::size_t i = 0; i < sp.size(); ++i) {
     sp.force[i].setZero();
     sp.torque[i].setZero();
   }
   nl.ensure(s);
   auto& c = s.contacts;
+  const double tan_phi = std::tan(s.material.friction_angle);  // one material per RVE
   for (std::size_t k = 0; k < c.size();) {
-    if (update_contact(s, k, false)) {
+    if (update_contact(s, k, false, tan_phi)) {
       ++k;
       continue;
     }
@@ -63,22 +83,24 @@ void compute_forces(RveState& s, NeighbourList& nl) {
     c.swap_remove(k);
   }
   const Material& m = s.material;
-  for (std::size_t p = 0; p < nl.n_pairs(); ++p) {
-    if (nl.pair_in_contact(p)) continue;
-    const std::uint32_t a = nl.pair_i(p), b = nl.pair_j(p);
-    const Eigen::Vector3i& cell = nl.pair_cell(p);
-    const Vec3 d =
-        (cell == Eigen::Vector3i::Zero() ? sp.pos[b] : Vec3(sp.pos[b] + s.cell.shift(cell))) -
-        sp.pos[a];
-    const double r = sp.radius[a] + sp.radius[b];
-    if (r * r - d.squaredNorm() < 0) continue;  // Ig2_Sphere_Sphere_ScGeom's test
-    const FrictPhys phys = frict_phys(m.young, sp.radius[a], m.ks_kn, m.friction_angle, m.young,
-                                      sp.radius[b], m.ks_kn, m.friction_angle);
-    const std::size_t k = c.add(a, b, nl.pair_cell(p), phys.kn, phys.ks, phys.tan_phi);
-    nl.contact_added(p, k);
-    if (!update_contact(s, k, true)) {
-      nl.contact_removed(k, k);
-      c.swap_remove(k);
+  for (std::uint32_t a = 0; a < sp.size(); ++a) {
+    const std::size_t row_end = nl.row_begin(a + 1);
+    for (std::size_t p = nl.row_begin(a); p < row_end; ++p) {
+      if (nl.pair_in_contact(p)) continue;
+      const std::uint32_t b = nl.pair_j(p);
+      const bool zero = nl.pair_cell_zero(p);
+      const Vec3 d =
+          (zero ? sp.pos[b] : Vec3(sp.pos[b] + s.cell.shift(nl.pair_cell(p)))) - sp.pos[a];
+      const double r = sp.radius[a] + sp.radius[b];
+      if (r * r - d.squaredNorm() < 0) continue;  // Ig2_Sphere_Sphere_ScGeom's test
+      const FrictPhys phys = frict_phys(m.young, sp.radius[a], m.ks_kn, m.friction_angle, m.young,
+                                        sp.radius[b], m.ks_kn, m.friction_angle);
+      const std::size_t k = c.add(a, b, nl.pair_cell(p), phys.kn, phys.ks);
+      nl.contact_added(p, k);
+      if (!update_contact(s, k, true, phys.tan_phi)) {
+        nl.contact_removed(k, k);
+        c.swap_remove(k);
+      }
     }
   }
 }
@@ -93,27 +115,34 @@ void newton(RveState& s, double damping) {
   const Vec3 dspin(-rot(1, 2), rot(0, 2), -rot(0, 1));
   const bool dvg_nonzero = dvg != Eigen::Matrix3d::Zero();
   auto& sp = s.spheres;
-  for (std::size_t i = 0; i < sp.size(); ++i) {
-    const Vec3 fluct = sp.vel[i] - prev * sp.pos[i];
+  // Each sphere's fields are read into locals once and written back once (the arrays cannot
+  // alias, but the compiler cannot know it); the arithmetic is YADE's, in its order.
+  const std::size_t n = sp.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 x = sp.pos[i];
+    Vec3 v = sp.vel[i], w = sp.ang_vel[i];
+    const Vec3 fluct = v - prev * x;
     Vec3 lin = sp.force[i] / sp.mass[i];
     cundall_damp(damping, dt, fluct, lin);
-    lin += prev * sp.vel[i];  // convective term of homoDeform = 2
-    sp.vel[i] += dt * lin;
+    lin += prev * v;  // convective term of homoDeform = 2
+    v += dt * lin;
     Vec3 ang = sp.torque[i] / sp.inertia[i];
-    cundall_damp(damping, dt, sp.ang_vel[i], ang);
-    sp.ang_vel[i] += dt * ang;
+    cundall_damp(damping, dt, w, ang);
+    w += dt * ang;
     // leapfrogTranslate (dvg is zero while the cell's gradient does not change)
-    if (dvg_nonzero) sp.vel[i] += dvg * sp.pos[i];
-    sp.pos[i] += sp.vel[i] * dt;
+    if (dvg_nonzero) v += dvg * x;
+    sp.pos[i] = x + v * dt;
+    sp.vel[i] = v;
     // leapfrogSphericalRotate
-    sp.ang_vel[i] += dspin;
-    const double angle2 = sp.ang_vel[i].squaredNorm();
+    w += dspin;
+    sp.ang_vel[i] = w;
+    const double angle2 = w.squaredNorm();
+    Quat o = sp.ori[i];
     if (angle2 != 0) {
       const double angle = std::sqrt(angle2);
-      const Quat q(Eigen::AngleAxisd(angle * dt, sp.ang_vel[i] / angle));
-      sp.ori[i] = q * sp.ori[i];
+      o = rotation_quaternion(angle * dt, w / angle) * o;
     }
-    sp.ori[i].normalize();
+    sp.ori[i] = o.normalized();
   }
   cell.prev_vel_grad = cell.vel_grad;
 }

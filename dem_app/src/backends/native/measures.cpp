@@ -10,7 +10,7 @@ Eigen::Matrix3d love_weber_stress(const RveState& s) {
   const auto& c = s.contacts;
   for (std::size_t k = 0; k < c.size(); ++k) {
     const Vec3 branch = s.spheres.pos[c.id1[k]] - s.spheres.pos[c.id2[k]] - s.cell.shift(c.cell[k]);
-    sum += (c.normal_force[k] + c.shear_force[k]) * branch.transpose();
+    sum += (c.normal_force(k) + c.shear_force[k]) * branch.transpose();
   }
   return sum / s.cell.volume();
 }
@@ -55,7 +55,7 @@ double elastic_energy(const RveState& s) {
   double e = 0;
   for (std::size_t k = 0; k < c.size(); ++k) {
     e += 0.5 *
-         (c.normal_force[k].squaredNorm() / c.kn[k] + c.shear_force[k].squaredNorm() / c.ks[k]);
+         (c.normal_force(k).squaredNorm() / c.kn[k] + c.shear_force[k].squaredNorm() / c.ks[k]);
   }
   return e;
 }
@@ -85,11 +85,11 @@ double coordination(const RveState& s) {
 double unbalanced_force(const RveState& s) {
   const auto& sp = s.spheres;
   const auto& c = s.contacts;
-  if (sp.size() == 0 || c.size() == 0) return 0.0;
+  if (sp.size() == 0 || c.size() == 0 || sp.force.size() != sp.size()) return 0.0;
   double body = 0, contact = 0;
   for (const auto& f : sp.force) body += f.norm();
   for (std::size_t k = 0; k < c.size(); ++k) {
-    contact += (c.normal_force[k] + c.shear_force[k]).norm();
+    contact += (c.normal_force(k) + c.shear_force[k]).norm();
   }
   return (body / static_cast<double>(sp.size())) / (contact / static_cast<double>(c.size()));
 }

@@ -1,11 +1,15 @@
 // The native RVE backend: see native_backend.hpp.
 #include "backends/native/native_backend.hpp"
 
+#include <omp.h>
 #include <Eigen/LU>
 #include <chrono>
 #include <cmath>
 #include <cstring>
 #include <fstream>
+
+#include <cstdlib>
+#include <exception>
 #include <random>
 #include <stdexcept>
 
@@ -29,6 +33,10 @@ std::int32_t as_int(protocol::RveStatus s) {
 }
 
 }  // namespace
+
+NativeBackend::NativeBackend(const NativeParams& p) : p_(p) {
+  if (std::getenv("OMP_NUM_THREADS")) set_threads(omp_get_max_threads());
+}
 
 void NativeBackend::setup(const BackendContext& ctx) {
   ctx_ = ctx;
@@ -80,6 +88,8 @@ void NativeBackend::initialise(const protocol::RveInit* init, protocol::RveReply
     RveRecord& r = rves_.back();
     if (goal.cwiseAbs().maxCoeff() > 0) native::consolidate(r.state, lists_.back(), goal, cp);
     native::finish_preparation(r.state, lists_.back(), p_.damping);
+    r.unbalanced = native::unbalanced_force(r.state);
+    r.state.spheres.release_forces();
     r.p0 = std::max(std::abs(mean), 1.0);
     fill_reply(k, as_int(protocol::RveStatus::kOk),
                static_cast<std::int32_t>(r.state.spheres.size()), reply[k]);
@@ -152,7 +162,7 @@ void NativeBackend::fill_reply(std::size_t k, std::int32_t status, std::int32_t 
     if (o & protocol::kOutputPorosity) reply.porosity = native::porosity(s);
     if (o & protocol::kOutputCoordination) reply.coordination = native::coordination(s);
     if ((o & protocol::kOutputUnbalancedForce) && contacts) {
-      reply.unbalanced_force = native::unbalanced_force(s);
+      reply.unbalanced_force = rves_[k].unbalanced;
     }
   }
   reply.status = status;
@@ -164,32 +174,54 @@ void NativeBackend::step(const protocol::ControlHeader& header, const protocol::
   using Clock = std::chrono::steady_clock;
   step_no_ = header.step;
   fault_.clear();
-  for (std::size_t k = 0; k < rves_.size(); ++k) {
+  const std::size_t n = rves_.size();
+  // Served from the kFlagSkip cache (serially: the map is shared) or advanced (in parallel:
+  // each RVE and its list are touched by one thread only).
+  std::vector<char> advance(n, 1);
+  std::vector<double> ke(n, 0.0);
+  for (std::size_t k = 0; k < n; ++k) {
     const auto t0 = Clock::now();
-    const std::uint64_t gid = ctx_.first_rve + k;
-    const auto cached = last_reply_.find(gid);
+    const auto cached = last_reply_.find(ctx_.first_rve + k);
     if ((req[k].flags & protocol::kFlagSkip) && cached != last_reply_.end()) {
       reply[k] = cached->second;
       reply[k].n_substeps = 0;
       reply[k].cost_s = std::chrono::duration<double>(Clock::now() - t0).count();
-      continue;
+      advance[k] = 0;
     }
-    int ns = 0;
-    if (!(req[k].flags & (protocol::kFlagQueryOnly | protocol::kFlagSkip))) {
-      ns = n_substeps(req[k].dF);
-      burst(k, req[k].dF, ns);
+  }
+  std::vector<std::exception_ptr> error(n);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads_) if (threads_ > 1 && n > 1)
+  for (std::ptrdiff_t kk = 0; kk < static_cast<std::ptrdiff_t>(n); ++kk) {
+    const auto k = static_cast<std::size_t>(kk);
+    if (!advance[k]) continue;
+    try {
+      const auto t0 = Clock::now();
+      int ns = 0;
+      if (!(req[k].flags & (protocol::kFlagQueryOnly | protocol::kFlagSkip))) {
+        ns = n_substeps(req[k].dF);
+        burst(k, req[k].dF, ns);
+        rves_[k].unbalanced = native::unbalanced_force(rves_[k].state);
+        rves_[k].state.spheres.release_forces();
+      }
+      const native::RveState& s = rves_[k].state;
+      std::int32_t status = as_int(protocol::RveStatus::kOk);
+      ke[k] = native::kinetic_energy(s);
+      if (!std::isfinite(ke[k])) {
+        status = as_int(protocol::RveStatus::kNonFinite);
+      } else if (ke[k] / s.cell.volume() > p_.ke_threshold * rves_[k].p0) {
+        status = as_int(protocol::RveStatus::kExploding);
+      }
+      regularise(k, header.step);
+      fill_reply(k, status, ns, reply[k]);
+      reply[k].cost_s = std::chrono::duration<double>(Clock::now() - t0).count();
+    } catch (...) {
+      error[k] = std::current_exception();
     }
-    const native::RveState& s = rves_[k].state;
-    std::int32_t status = as_int(protocol::RveStatus::kOk);
-    const double ke = native::kinetic_energy(s);
-    if (!std::isfinite(ke)) {
-      status = as_int(protocol::RveStatus::kNonFinite);
-    } else if (ke / s.cell.volume() > p_.ke_threshold * rves_[k].p0) {
-      status = as_int(protocol::RveStatus::kExploding);
-    }
-    regularise(k, header.step);
-    fill_reply(k, status, ns, reply[k]);
-    reply[k].cost_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    if (error[k]) std::rethrow_exception(error[k]);
+    if (!advance[k]) continue;
+    const std::uint64_t gid = ctx_.first_rve + k;
     last_reply_[gid] = reply[k];
     if (reply[k].status == as_int(protocol::RveStatus::kNonFinite) ||
         reply[k].status == as_int(protocol::RveStatus::kExploding)) {
@@ -198,7 +230,7 @@ void NativeBackend::step(const protocol::ControlHeader& header, const protocol::
                 (reply[k].status == as_int(protocol::RveStatus::kNonFinite)
                      ? "non-finite values"
                      : "exploding kinetic energy") +
-                " (kinetic energy " + std::to_string(ke) + " J)";
+                " (kinetic energy " + std::to_string(ke[k]) + " J)";
     }
   }
 }

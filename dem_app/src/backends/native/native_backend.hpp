@@ -35,7 +35,7 @@ struct NativeParams {
 
 class NativeBackend final : public RveBackend {
  public:
-  explicit NativeBackend(const NativeParams& p) : p_(p) {}
+  explicit NativeBackend(const NativeParams& p);
   std::string name() const override { return "native"; }
   void setup(const BackendContext& ctx) override;
   void initialise(const protocol::RveInit* init, protocol::RveReply* reply) override;
@@ -56,6 +56,10 @@ class NativeBackend final : public RveBackend {
   int n_substeps(const double* dF) const;
   // Apply dF over ns substeps with the velGrad lag corrected (mpmdem_rve.RveSet._burst).
   void burst(std::size_t k, const double* dF, int ns);
+  // Threads over the rank's RVEs in step(): OMP_NUM_THREADS if set, else 1 (each RVE is
+  // independent, so the results do not depend on it).
+  int threads() const { return threads_; }
+  void set_threads(int n) { threads_ = n < 1 ? 1 : n; }
 
  private:
   native::RveRecord make_rve(std::uint64_t point, double pressure) const;
@@ -69,6 +73,7 @@ class NativeBackend final : public RveBackend {
   std::vector<native::NeighbourList> lists_;
   std::map<std::uint64_t, protocol::RveReply> last_reply_;  // kFlagSkip cache (by gid)
   std::uint64_t step_no_ = 0;
+  int threads_ = 1;
   std::string fault_;
 };
 

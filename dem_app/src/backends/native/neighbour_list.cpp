@@ -4,19 +4,10 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
-#include <map>
-#include <tuple>
+#include <limits>
+#include <stdexcept>
 
 namespace mpmdem::dem::native {
-
-namespace {
-using Key = std::tuple<std::uint32_t, std::uint32_t, int, int, int>;
-// A pair's key independent of the order of its two spheres.
-Key key_of(std::uint32_t a, std::uint32_t b, const Eigen::Vector3i& c) {
-  if (a <= b) return {a, b, c[0], c[1], c[2]};
-  return {b, a, -c[0], -c[1], -c[2]};
-}
-}  // namespace
 
 void NeighbourList::ensure(const RveState& s) {
   if (valid_ && x_ref_.size() == s.spheres.size() && contact_pair_.size() == s.contacts.size()) {
@@ -58,11 +49,42 @@ void NeighbourList::rebuild(const RveState& s) {
         steps[m] = Eigen::Vector3i(a, b, c);
         offsets[m++] = h_ref_ * Vec3(a, b, c);
       }
-  pair_i_.clear();
+  // Quick rejection in the cell's reduced frame: with f the reduced separation wrapped to
+  // [-1/2, 1/2] and h_a the cell's height along a, every image of the pair is at least
+  // |f_a| h_a away (s_a = 0) or (1 - |f_a|) h_a >= h_a / 2 (s_a != 0). So a pair with
+  // |f_a| h_a >= cut on an axis where h_a >= 2 cut has no image within cut: it is skipped
+  // before the exact test below (which alone decides, so the list is unchanged). The
+  // relative margin 1e-6 covers the rounding of the per-sphere reduced coordinates.
+  std::vector<Vec3> g(n);
+  for (std::size_t i = 0; i < n; ++i) g[i] = h_ref_inv_ * sp.pos[i];
+  Vec3 height;
+  {
+    const double vol = std::abs(h_ref_.determinant());
+    for (int a = 0; a < 3; ++a) {
+      height[a] = vol / h_ref_.col((a + 1) % 3).cross(h_ref_.col((a + 2) % 3)).norm();
+    }
+  }
+  const auto wrapped = [](double f) {
+    const double t = f + 0.5;
+    double r = static_cast<double>(static_cast<long long>(t));
+    if (r > t) r -= 1;  // floor(f + 1/2) without a libm call
+    return std::abs(f - r);
+  };
+  const auto far = [&](std::size_t i, std::size_t j, double cut) {
+    const double c = cut * (1 + 1e-6);
+    for (int a = 0; a < 3; ++a) {
+      if (height[a] >= 2 * c && wrapped(g[j][a] - g[i][a]) * height[a] >= c) return true;
+    }
+    return false;
+  };
+  row_.assign(n + 1, 0);
   pair_j_.clear();
-  pair_c_.clear();
+  pair_.clear();
+  constexpr int kMax = std::numeric_limits<std::int16_t>::max();
   for (std::uint32_t i = 0; i < n; ++i) {
+    row_[i] = static_cast<std::uint32_t>(pair_j_.size());
     for (std::uint32_t j = i + 1; j < n; ++j) {
+      if (far(i, j, sp.radius[i] + sp.radius[j] + skin_)) continue;
       const Vec3 d = sp.pos[j] - sp.pos[i];
       const Vec3 f = h_ref_inv_ * d;
       const Eigen::Vector3i c0(-static_cast<int>(std::lround(f[0])),
@@ -72,43 +94,65 @@ void NeighbourList::rebuild(const RveState& s) {
       const double cut = sp.radius[i] + sp.radius[j] + skin_;
       for (int k = 0; k < 27; ++k) {
         if ((d0 + offsets[k]).squaredNorm() < cut * cut) {
-          pair_i_.push_back(i);
+          const Eigen::Vector3i c = c0 + steps[k];
+          if (c.cwiseAbs().maxCoeff() >= kMax) {
+            throw std::runtime_error(
+                "native backend: spheres " + std::to_string(i) + " and " + std::to_string(j) +
+                " are more than 32767 cells apart (unwrapped positions): not supported");
+          }
           pair_j_.push_back(j);
-          pair_c_.push_back(c0 + steps[k]);
+          pair_.push_back(
+              PairImage{{static_cast<std::int16_t>(c[0]), static_cast<std::int16_t>(c[1]),
+                         static_cast<std::int16_t>(c[2])},
+                        0});
         }
       }
     }
   }
+  row_[n] = static_cast<std::uint32_t>(pair_j_.size());
+  // Exact size: the pair count changes only here (rebuilds are rare).
+  pair_j_.shrink_to_fit();
+  pair_.shrink_to_fit();
   // Map the existing contacts onto the new pairs.
-  pair_contact_.assign(pair_i_.size(), -1);
   contact_pair_.assign(s.contacts.size(), -1);
-  std::map<Key, std::int32_t> index;
-  for (std::size_t p = 0; p < pair_i_.size(); ++p) {
-    index.emplace(key_of(pair_i_[p], pair_j_[p], pair_c_[p]), static_cast<std::int32_t>(p));
-  }
+  contact_pair_.shrink_to_fit();
   for (std::size_t k = 0; k < s.contacts.size(); ++k) {
-    const auto it = index.find(key_of(s.contacts.id1[k], s.contacts.id2[k], s.contacts.cell[k]));
-    if (it == index.end()) continue;  // an image the list does not hold: never re-created
-    contact_pair_[k] = it->second;
-    pair_contact_[it->second] = static_cast<std::int32_t>(k);
+    const std::int64_t p = find(s.contacts.id1[k], s.contacts.id2[k], s.contacts.cell[k]);
+    if (p < 0) continue;  // an image the list does not hold: never re-created
+    contact_pair_[k] = static_cast<std::int32_t>(p);
+    pair_[p].in_contact = 1;
   }
+}
+
+std::int64_t NeighbourList::find(std::uint32_t a, std::uint32_t b, const Eigen::Vector3i& c) const {
+  const Eigen::Vector3i cc = a <= b ? c : Eigen::Vector3i(-c);
+  const std::uint32_t i = std::min(a, b), j = std::max(a, b);
+  if (i + 1 >= row_.size()) return -1;
+  for (std::size_t p = row_[i]; p < row_[i + 1]; ++p) {
+    if (pair_j_[p] == j && pair_[p].c[0] == cc[0] && pair_[p].c[1] == cc[1] &&
+        pair_[p].c[2] == cc[2]) {
+      return static_cast<std::int64_t>(p);
+    }
+  }
+  return -1;
+}
+
+std::size_t NeighbourList::heap_bytes() const {
+  return x_ref_.capacity() * sizeof(Vec3) +
+         (row_.capacity() + pair_j_.capacity()) * sizeof(std::uint32_t) +
+         pair_.capacity() * sizeof(PairImage) + contact_pair_.capacity() * sizeof(std::int32_t);
 }
 
 void NeighbourList::contact_added(std::size_t pair, std::size_t contact) {
   if (contact_pair_.size() <= contact) contact_pair_.resize(contact + 1, -1);
   contact_pair_[contact] = static_cast<std::int32_t>(pair);
-  pair_contact_[pair] = static_cast<std::int32_t>(contact);
+  pair_[pair].in_contact = 1;
 }
 
 void NeighbourList::contact_removed(std::size_t contact, std::size_t last) {
   const std::int32_t p = contact_pair_[contact];
-  if (p >= 0) pair_contact_[p] = -1;
-  if (contact != last) {
-    contact_pair_[contact] = contact_pair_[last];
-    if (contact_pair_[contact] >= 0) {
-      pair_contact_[contact_pair_[contact]] = static_cast<std::int32_t>(contact);
-    }
-  }
+  if (p >= 0) pair_[p].in_contact = 0;
+  if (contact != last) contact_pair_[contact] = contact_pair_[last];
   contact_pair_.pop_back();
 }
 

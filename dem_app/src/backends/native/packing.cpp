@@ -129,11 +129,17 @@ RveState read_packing(const std::filesystem::path& file) {
         s.contacts.add(static_cast<std::uint32_t>(ids[0]), static_cast<std::uint32_t>(ids[1]),
                        Eigen::Vector3i(static_cast<int>(ids[2]), static_cast<int>(ids[3]),
                                        static_cast<int>(ids[4])),
-                       v[0], v[1], v[2]);
+                       v[0], v[1]);
+    // One friction angle per RVE (FrictPhys: tan of the smaller of the two, both the same).
+    if (v[2] != std::tan(s.material.friction_angle)) {
+      r.fail("contact friction differs from the material's (one material per RVE)");
+    }
     s.contacts.normal[c] = Vec3(v[3], v[4], v[5]);
     s.contacts.shear_force[c] = Vec3(v[6], v[7], v[8]);
-    s.contacts.normal_force[c] = Vec3(v[9], v[10], v[11]);
-    s.contacts.penetration[c] = v[12];
+    // The normal force is kn max(pen, 0) n (Contacts::normal_force). YADE does not save
+    // penetrationDepth (exported as 0): then the penetration |Fn| / kn reproduces the saved
+    // normal force (to rounding) until the first step recomputes both.
+    s.contacts.penetration[c] = v[12] > 0 ? v[12] : Vec3(v[9], v[10], v[11]).norm() / v[0];
   }
   return s;
 }
@@ -170,10 +176,11 @@ void write_packing(const RveState& s, const std::filesystem::path& file) {
   out << "contacts " << c.size() << '\n';
   for (std::size_t k = 0; k < c.size(); ++k) {
     out << c.id1[k] << ' ' << c.id2[k] << ' ' << c.cell[k][0] << ' ' << c.cell[k][1] << ' '
-        << c.cell[k][2] << ' ' << c.kn[k] << ' ' << c.ks[k] << ' ' << c.tan_phi[k];
+        << c.cell[k][2] << ' ' << c.kn[k] << ' ' << c.ks[k] << ' '
+        << std::tan(s.material.friction_angle);
     vec(c.normal[k]);
     vec(c.shear_force[k]);
-    vec(c.normal_force[k]);
+    vec(c.normal_force(k));
     out << ' ' << c.penetration[k] << '\n';
   }
   if (!out) throw std::runtime_error("error while writing native packing " + file.string());

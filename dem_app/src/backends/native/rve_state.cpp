@@ -1,6 +1,8 @@
 // Structure-of-arrays containers of a native RVE: see rve_state.hpp.
 #include "backends/native/rve_state.hpp"
 
+#include <algorithm>
+
 namespace mpmdem::dem::native {
 
 void Spheres::resize(std::size_t n) {
@@ -25,30 +27,63 @@ void Spheres::push_back(double r, double m, double inertia_value, const Vec3& x)
   pos[n] = x;
 }
 
+namespace {
+template <typename T>
+std::size_t cap(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+template <typename T>
+void fit_to(std::vector<T>& v, std::size_t n) {
+  if (v.capacity() == n) return;
+  std::vector<T> w;
+  w.reserve(n);
+  w.assign(v.begin(), v.end());
+  v.swap(w);
+}
+}  // namespace
+
+std::size_t Spheres::heap_bytes() const {
+  return cap(radius) + cap(mass) + cap(inertia) + cap(pos) + cap(vel) + cap(ang_vel) + cap(ori) +
+         cap(ref_ori) + cap(force) + cap(torque);
+}
+
+void Spheres::release_forces() {
+  std::vector<Vec3>().swap(force);
+  std::vector<Vec3>().swap(torque);
+}
+
+std::size_t Contacts::heap_bytes() const {
+  return cap(id1) + cap(id2) + cap(cell) + cap(normal) + cap(shear_force) + cap(kn) + cap(ks) +
+         cap(penetration);
+}
+
+void Contacts::fit() {
+  const std::size_t n = std::max<std::size_t>(16, size() + size() / 8);
+  fit_to(id1, n), fit_to(id2, n), fit_to(cell, n), fit_to(normal, n), fit_to(shear_force, n);
+  fit_to(kn, n), fit_to(ks, n), fit_to(penetration, n);
+}
+
 void Contacts::clear() {
   id1.clear();
   id2.clear();
   cell.clear();
   normal.clear();
   shear_force.clear();
-  normal_force.clear();
   kn.clear();
   ks.clear();
-  tan_phi.clear();
   penetration.clear();
 }
 
 std::size_t Contacts::add(std::uint32_t a, std::uint32_t b, const Eigen::Vector3i& c,
-                          double kn_value, double ks_value, double tan_value) {
+                          double kn_value, double ks_value) {
+  if (id1.size() == id1.capacity()) fit();
   id1.push_back(a);
   id2.push_back(b);
   cell.push_back(c);
   normal.push_back(Vec3::Zero());
   shear_force.push_back(Vec3::Zero());
-  normal_force.push_back(Vec3::Zero());
   kn.push_back(kn_value);
   ks.push_back(ks_value);
-  tan_phi.push_back(tan_value);
   penetration.push_back(0.0);
   return id1.size() - 1;
 }
@@ -61,10 +96,8 @@ void Contacts::swap_remove(std::size_t k) {
     cell[k] = cell[last];
     normal[k] = normal[last];
     shear_force[k] = shear_force[last];
-    normal_force[k] = normal_force[last];
     kn[k] = kn[last];
     ks[k] = ks[last];
-    tan_phi[k] = tan_phi[last];
     penetration[k] = penetration[last];
   }
   id1.pop_back();
@@ -72,10 +105,8 @@ void Contacts::swap_remove(std::size_t k) {
   cell.pop_back();
   normal.pop_back();
   shear_force.pop_back();
-  normal_force.pop_back();
   kn.pop_back();
   ks.pop_back();
-  tan_phi.pop_back();
   penetration.pop_back();
 }
 

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -27,10 +28,14 @@ struct Spheres {
   std::vector<double> radius, mass, inertia;  // per sphere [m], [kg], [kg m2]
   std::vector<Vec3> pos, vel, ang_vel;        // unwrapped positions, as YADE keeps them
   std::vector<Quat> ori, ref_ori;             // orientation, and the one rotation counts from
-  std::vector<Vec3> force, torque;            // accumulated in the current step
+  // Accumulated in a DEM step. Scratch: the backend releases them after each coupling step
+  // (release_forces; compute_forces sizes them again), so a resident RVE does not keep them.
+  std::vector<Vec3> force, torque;
   std::size_t size() const { return radius.size(); }
   void resize(std::size_t n);
   void push_back(double r, double m, double inertia_value, const Vec3& x);
+  std::size_t heap_bytes() const;  // allocated capacity of all arrays
+  void release_forces();
 };
 
 // Real contacts (Interaction with ScGeom + FrictPhys): body 2's image is pos2 + hsize * cell.
@@ -39,16 +44,23 @@ struct Contacts {
   std::vector<Eigen::Vector3i> cell;  // Interaction::cellDist
   std::vector<Vec3> normal;           // ScGeom::normal (unit, 1 -> 2)
   std::vector<Vec3> shear_force;      // FrictPhys::shearForce (rotated with the contact)
-  std::vector<Vec3> normal_force;     // FrictPhys::normalForce (of the last step)
-  std::vector<double> kn, ks, tan_phi;
+  std::vector<double> kn, ks;
   std::vector<double> penetration;  // ScGeom::penetrationDepth (last step)
   std::size_t size() const { return id1.size(); }
+  // FrictPhys::normalForce of the last step, recomputed exactly as CundallStrack computed it
+  // (not stored: 24 bytes per contact). The friction coefficient is the material's.
+  Vec3 normal_force(std::size_t k) const {
+    return kn[k] * std::max(penetration[k], 0.0) * normal[k];
+  }
   void clear();
   // Appends a contact with zero forces; returns its index.
   std::size_t add(std::uint32_t a, std::uint32_t b, const Eigen::Vector3i& c, double kn_value,
-                  double ks_value, double tan_value);
+                  double ks_value);
   // Removes contact k by moving the last one into its place.
   void swap_remove(std::size_t k);
+  std::size_t heap_bytes() const;  // allocated capacity of all arrays
+  // Capacity = size + 1/8 (at least 16): the arrays grow by 1/8 instead of doubling.
+  void fit();
 };
 
 struct RveState {

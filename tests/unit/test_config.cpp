@@ -44,7 +44,8 @@ TEST(ConfigValidation, UnknownNestedKeyWithoutCloseMatchListsKnownKeys) {
       scene_error(replaced(kMinimal, "  end_time: 0.1\n", "  end_time: 0.1\n  zzzzzz: 1\n"));
   EXPECT_CONTAINS(msg, std::string("unknown key 'solver.zzzzzz'"));
   EXPECT_CONTAINS(
-      msg, std::string("known keys here: scheme, shape, transfer, xpic_order, flip, flip_time_scale, cfl"));
+      msg, std::string(
+               "known keys here: scheme, shape, transfer, xpic_order, flip, flip_time_scale, cfl"));
   EXPECT_CONTAINS(msg, std::string("line 11"));
 }
 

@@ -3,6 +3,7 @@
 
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
+#include <omp.h>
 
 #include <csignal>
 #include <cstdlib>
@@ -102,7 +103,11 @@ class YadeBackend final : public RveBackend {
       throw std::logic_error("yade backend: Python was already finalized in this process");
     }
     g_python_used = true;
-    setenv("OMP_NUM_THREADS", "1", 1);  // one thread per RVE is fastest; ranks parallelise
+    // One thread per RVE is fastest; ranks parallelise. The environment reaches YADE's
+    // OpenMP only if libgomp is not loaded yet; dem_app links it (native backend), so the
+    // calling thread's thread count is set too (YADE steps in this thread: O.step()).
+    setenv("OMP_NUM_THREADS", "1", 1);
+    omp_set_num_threads(1);
     struct sigaction old_int {};
     sigaction(SIGINT, nullptr, &old_int);
     Py_InitializeEx(0);  // 0: Python installs no signal handlers of its own

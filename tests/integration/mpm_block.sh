@@ -1,24 +1,25 @@
 #!/usr/bin/env bash
-# mpm_app against `dem_app --backend native` on 2 ranks on a tiny scene
-# (tests/integration/native_block_tiny.yaml). Checks: both exit 0, the run is complete, mass is
-# conserved exactly, and every RVE's vertical stress is the geostatic rho*g*depth of its
+# mpm_app against `dem_app --backend BACKEND` (yade or native, the first argument) on 2 ranks
+# on a tiny scene (tests/integration/<BACKEND>_block_tiny.yaml). Checks: both exit 0, the run
+# is complete, mass is conserved exactly, and every RVE's vertical stress is the geostatic rho*g*depth of its
 # point within 10% (the RVEs start consolidated to it and the block stays at rest).
 # Env: MPMDEM_BIN (build dir), MPMDEM_SRC (source dir). Every process started is stopped by
 # PID in pair.sh's trap.
 set -uo pipefail
+backend=${1:?usage: mpm_block.sh yade|native}
 bin=${MPMDEM_BIN:?set MPMDEM_BIN to the build directory}
 src=${MPMDEM_SRC:-$(cd "$(dirname "$0")/../.." && pwd)}
 # shellcheck source=../../scripts/lib/pair.sh
 source "$src/scripts/lib/pair.sh"
 
-work=$bin/test-runs/mpm_native
+work=$bin/test-runs/mpm_$backend
 rm -rf "$work"
 mkdir -p "$work/run"
 cd "$work" || exit 1
-cp "$src/tests/integration/native_block_tiny.yaml" scene.yaml
+cp "$src/tests/integration/${backend}_block_tiny.yaml" scene.yaml
 pair_init
 pair_start_ompi_server "$work" || exit 1
-pair_start_server 2 "$work/server.log" "$bin/dem_app/dem_app" --backend native --scene scene.yaml \
+pair_start_server 2 "$work/server.log" "$bin/dem_app/dem_app" --backend "$backend" --scene scene.yaml \
   --run-dir "$work/run" --idle-timeout 120
 pair_start_client 1 "$work/client.log" "$bin/mpm_app/mpm_app" scene.yaml --out "$work/run" \
   --threads 1

@@ -67,6 +67,18 @@ class ObjectWriter {
   bool first_ = true;
 };
 
+// A nested object {"<tag>": "<name>", figures...} at the second indentation level.
+std::string tagged_object(const char* tag, const std::string& name,
+                          const std::vector<std::pair<std::string, double>>& figures) {
+  std::ostringstream inner;
+  inner << "{\n";
+  ObjectWriter v(inner, 4);
+  v.str(tag, name);
+  for (const auto& [key, value] : figures) v.num(key, value);
+  inner << "\n  }";
+  return inner.str();
+}
+
 }  // namespace
 
 std::string to_json(const RunSummary& s) {
@@ -104,23 +116,9 @@ std::string to_json(const RunSummary& s) {
   w.num("E_d_J", E_d);
   w.num("E_d_over_E_p0", s.E_p0_J != 0.0 ? E_d / s.E_p0_J : 0.0);
   for (const auto& [key, value] : s.analysis) w.num(key, value);
-  if (!s.stop_reason.empty()) {
-    std::ostringstream inner;
-    inner << "{\n";
-    ObjectWriter v(inner, 4);
-    v.str("reason", s.stop_reason);
-    for (const auto& [key, value] : s.stop) v.num(key, value);
-    inner << "\n  }";
-    w.raw("stop", inner.str());
-  }
+  if (!s.stop_reason.empty()) w.raw("stop", tagged_object("reason", s.stop_reason, s.stop));
   if (!s.verification_kind.empty()) {
-    std::ostringstream inner;
-    inner << "{\n";
-    ObjectWriter v(inner, 4);
-    v.str("kind", s.verification_kind);
-    for (const auto& [key, value] : s.verification) v.num(key, value);
-    inner << "\n  }";
-    w.raw("verification", inner.str());
+    w.raw("verification", tagged_object("kind", s.verification_kind, s.verification));
     // The error figures also at top level, where scripts look for headline numbers.
     for (const auto& [key, value] : s.verification) w.num(key, value);
   }

@@ -31,10 +31,12 @@ run_job() {
   fi
 }
 
-# resume_from RUN COPY STEP LOG: copy RUN to COPY, keep its checkpoints up to STEP, and
-# resume the copy (scripts/run --resume, 2 DEM ranks); on failure exit 1.
+# resume_from RUN COPY STEP LOG [RANKS [ARGS...]]: copy RUN to COPY, keep its checkpoints up to
+# STEP, and resume the copy (scripts/run --resume on RANKS DEM ranks, default 2, with ARGS);
+# on failure exit 1.
 resume_from() {
-  local run=$1 copy=$2 step=$3 log=$4 d n
+  local run=$1 copy=$2 step=$3 log=$4 ranks=${5:-2} d n
+  shift $(($# < 5 ? $# : 5))
   rm -rf "$copy"
   cp -r "$run" "$copy"
   for d in "$copy"/checkpoints/step_*; do
@@ -42,5 +44,5 @@ resume_from() {
     ((n > step)) && rm -rf "$d"
   done
   rm -f "$copy/summary.json" "$copy/final_state.h5"
-  run_job "$log" --resume "$copy" --dem-ranks 2
+  run_job "$log" --resume "$copy" --dem-ranks "$ranks" "$@"
 }

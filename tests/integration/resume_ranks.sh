@@ -43,14 +43,7 @@ if [[ -z $cut ]]; then  # time-triggered: the oldest complete checkpoint kept
 fi
 for m in 1 3; do
   copy=$work/ranks_$m
-  rm -rf "$copy"
-  cp -r "$work/full" "$copy"
-  for d in "$copy"/checkpoints/step_*; do
-    n=$((10#${d##*step_}))
-    ((n > cut)) && rm -rf "$d"
-  done
-  rm -f "$copy/summary.json" "$copy/final_state.h5"
-  run_job "$work/ranks_$m.log" --resume "$copy" --dem-ranks "$m" "${limit[@]}"
+  resume_from "$work/full" "$copy" "$cut" "$work/ranks_$m.log" "$m" "${limit[@]}"
   grep -q "on $m rank(s)" "$work/ranks_$m.log" && ok "resumed from step $cut on $m DEM rank(s)" ||
     fail "the resume did not run on $m rank(s)"
   /usr/bin/python3 - "$work/full" "$copy" "$case_name" <<'PY' || fail "resumed on $m ranks: end state differs"

@@ -129,6 +129,41 @@ TEST(ColumnCollapse, LocalModelConservesMassDissipatesAndSettlesInTheBands) {
   const double ed = figure(s, "Ed_over_Ep0_final");
   EXPECT_GE(ed, 1.0 - H_f / g.H_i - 0.02);
   EXPECT_LE(ed, 1.0 - g.L_i / figure(s, "runout_m") + 0.02);
+  // The shipped transfer sheds no points: the connected front is the runout.
+  EXPECT_EQ(figure(s, "runout_front_m"), figure(s, "runout_m"));
+}
+
+// The deposit's connected front: a 10 x 3 block of points 0.05 m apart, a train of points
+// 0.09 m apart (less than the 0.1 m cell: still connected) and two stray points beyond a
+// 0.25 m gap. runout_m is set by the last stray point, the front by the end of the train.
+TEST(ColumnCollapse, FrontIgnoresPointsThatLeftTheDeposit) {
+  ColumnGeometry g;
+  g.x_back = 0.0;
+  g.z_base = 0.0;
+  g.spacing_x = 0.05;
+  g.spacing_z = 0.05;
+  g.cell_size = 0.1;
+  Particles p;
+  auto add = [&](double x, double z) {
+    p.x.emplace_back(x, 0.0, z);
+    p.m.push_back(2.0);
+  };
+  for (int i = 0; i < 10; ++i)
+    for (int k = 0; k < 3; ++k) add(0.025 + 0.05 * i, 0.025 + 0.05 * k);
+  for (int i = 1; i <= 4; ++i) add(0.475 + 0.09 * i, 0.025);  // train up to x = 0.835
+  add(0.835 + 0.25, 0.025);
+  add(0.835 + 0.30, 0.025);
+  const DepositShape d = measure_deposit(g, p);
+  EXPECT_NEAR(d.runout_m, 1.135 + 0.025, 1e-12);
+  EXPECT_NEAR(d.runout_front_m, 0.835 + 0.025, 1e-12);
+  EXPECT_NEAR(d.detached_mass_fraction, 2.0 / 36.0, 1e-12);
+  EXPECT_NEAR(d.final_height_m, 0.15, 1e-12);
+  // Without stray points the two measures agree.
+  p.x.resize(34);
+  p.m.resize(34);
+  const DepositShape e = measure_deposit(g, p);
+  EXPECT_EQ(e.runout_front_m, e.runout_m);
+  EXPECT_EQ(e.detached_mass_fraction, 0.0);
 }
 
 TEST(ColumnCollapse, HigherFrictionRunsOutLessAndStandsTaller) {

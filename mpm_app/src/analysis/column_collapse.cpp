@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <vector>
 
 #include "boundary_conditions.hpp"
 #include "energies.hpp"
@@ -50,6 +51,7 @@ ColumnGeometry column_geometry(const Scene& scene) {
   g.t_star = std::sqrt(g.H_i / g.g);
   g.spacing_x = scene.grid.cell_size / reg.points_along(0);
   g.spacing_z = scene.grid.cell_size / reg.points_along(2);
+  g.cell_size = scene.grid.cell_size;
   const double tol = 1e-9 * scene.grid.cell_size;
   if (std::abs(reg.min[0] - scene.grid.origin[0]) > tol) {
     throw SceneError("column_collapse: region '" + reg.name + "' must touch the back wall: its " +
@@ -76,14 +78,29 @@ ColumnGeometry column_geometry(const Scene& scene) {
 
 DepositShape measure_deposit(const ColumnGeometry& g, const Particles& p) {
   DepositShape d;
-  double x_max = -std::numeric_limits<double>::infinity();
-  double z_max = x_max;
-  for (std::size_t q = 0; q < p.size(); ++q) {
-    x_max = std::max(x_max, p.x[q][0]);
-    z_max = std::max(z_max, p.x[q][2]);
-  }
   if (p.size() == 0) return d;
-  d.runout_m = x_max + 0.5 * g.spacing_x - g.x_back;
+  std::vector<std::size_t> order(p.size());
+  for (std::size_t q = 0; q < order.size(); ++q) order[q] = q;
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return p.x[a][0] < p.x[b][0]; });
+  double z_max = -std::numeric_limits<double>::infinity();
+  for (std::size_t q = 0; q < p.size(); ++q) z_max = std::max(z_max, p.x[q][2]);
+  // The connected front: the last point before the first gap wider than a cell.
+  std::size_t front = order.size() - 1;
+  for (std::size_t k = 1; k < order.size(); ++k) {
+    if (p.x[order[k]][0] - p.x[order[k - 1]][0] > g.cell_size) {
+      front = k - 1;
+      break;
+    }
+  }
+  double mass = 0.0, detached = 0.0;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    mass += p.m[order[k]];
+    if (k > front) detached += p.m[order[k]];
+  }
+  d.runout_m = p.x[order.back()][0] + 0.5 * g.spacing_x - g.x_back;
+  d.runout_front_m = p.x[order[front]][0] + 0.5 * g.spacing_x - g.x_back;
+  d.detached_mass_fraction = mass > 0.0 ? detached / mass : 0.0;
   d.final_height_m = z_max + 0.5 * g.spacing_z - g.z_base;
   return d;
 }
@@ -211,6 +228,8 @@ std::vector<std::pair<std::string, double>> ColumnCollapseMonitor::figures(
           {"time_over_t_star_final", release_time_ ? time_over_t_star(time) : nan},
           {"runout_m", d.runout_m},
           {"runout_normalized", (d.runout_m - g_.L_i) / g_.L_i},
+          {"runout_front_m", d.runout_front_m},
+          {"runout_front_detached_mass_fraction", d.detached_mass_fraction},
           {"final_height_m", d.final_height_m},
           {"final_height_over_initial", d.final_height_m / g_.H_i},
           {"Ep0_release_J", release_time_ ? E_p0_release_ : nan},

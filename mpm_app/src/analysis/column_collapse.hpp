@@ -17,6 +17,12 @@
 //                      (s_x the initial point spacing along x: a point stands for a box of
 //                      that length)
 //   runout_normalized  (L_f - L_i) / L_i
+//   runout_front_m     the front of the connected deposit: points sorted by x, the front is
+//                      the last point before the first gap along x wider than one cell
+//                      (material farther than a cell from the rest shares no grid node
+//                      interaction with it), + s_x/2 - x_back. Points that left the deposit
+//                      (FLIP-like transfers shed single points that slide on) do not set it.
+//   runout_front_detached_mass_fraction  share of the mass beyond that gap
 //   final_height_m     H_f: top of the deposit, max_p z_p + s_z/2 - z_base (s_z along z)
 //   Ed_over_Ep0_final  E_d / E_p0 with E_p0 the potential energy at release measured from the
 //                      base (E_p = sum m |g| (z - z_base)), E_d = E_p0 - E_p - E_k
@@ -47,6 +53,7 @@ struct ColumnGeometry {
   double t_star = 0.0;     // sqrt(H_i / g) [s]
   double spacing_x = 0.0;  // initial point spacing along x [m]
   double spacing_z = 0.0;  // initial point spacing along z [m]
+  double cell_size = 0.0;  // grid cell size [m] (the gap that detaches the front)
   int region = 0;          // index of the column region
   int constraint = -1;     // index of the stage-1 constraint, -1 if none
 };
@@ -57,6 +64,8 @@ ColumnGeometry column_geometry(const Scene& scene);
 struct DepositShape {
   double runout_m = 0.0;
   double final_height_m = 0.0;
+  double runout_front_m = 0.0;
+  double detached_mass_fraction = 0.0;
 };
 DepositShape measure_deposit(const ColumnGeometry& g, const Particles& p);
 

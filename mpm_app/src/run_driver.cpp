@@ -10,6 +10,7 @@
 #include <memory>
 #include <optional>
 #include <sstream>
+#include <tuple>
 
 #include "analysis/column_collapse.hpp"
 #include "constitutive/drucker_prager.hpp"
@@ -433,6 +434,9 @@ class Run {
     sum.E_p0_J = solver_->initial_potential_energy();
     sum.E_p_J = e.E_p;
     sum.E_k_J = e.E_k;
+    const EnergyBudget& b = solver_->energy_budget();
+    std::tie(sum.E_k0_J, sum.W_int_J, sum.W_damp_J, sum.W_bc_J) =
+        std::tie(b.E_k0, b.W_int, b.W_damp, b.W_bc);
     sum.analysis.clear();
     if (column_) sum.analysis = column_->figures(solver_->time(), p);
     sum.stop_reason =

@@ -131,6 +131,15 @@ TEST(ColumnCollapse, LocalModelConservesMassDissipatesAndSettlesInTheBands) {
   EXPECT_LE(ed, 1.0 - g.L_i / figure(s, "runout_m") + 0.02);
   // The shipped transfer sheds no points: the connected front is the runout.
   EXPECT_EQ(figure(s, "runout_front_m"), figure(s, "runout_m"));
+  // summary.json's energy budget is energies.csv's last row (W_int, W_damp, W_bc at columns
+  // 9-11, E_err at 12); the stress work is most of the energy released.
+  const std::vector<double>& last = r.energies.back();
+  const double released = s.E_p0_J + s.E_k0_J - s.E_p_J - s.E_k_J;
+  EXPECT_NEAR(s.W_int_J, last[9], 1e-9 * released);
+  EXPECT_NEAR(s.W_damp_J, last[10], 1e-9 * released);
+  EXPECT_NEAR(s.W_bc_J, last[11], 1e-9 * released);
+  EXPECT_NEAR(released - s.W_int_J - s.W_damp_J - s.W_bc_J, last[12], 1e-9 * released);
+  EXPECT_GT(s.W_int_J, 0.5 * released);
 }
 
 // The deposit's connected front: a 10 x 3 block of points 0.05 m apart, a train of points

@@ -336,6 +336,28 @@ TEST(SummaryJson, NonFiniteNumbersBecomeNull) {
   EXPECT_EQ(json.find("nan"), std::string::npos);
 }
 
+// The energy_budget object: released = E_p0 + E_k0 - E_p - E_k = 10 + 0.5 - 6 - 0.5 = 4 J,
+// split into W_int 2.5, W_bc 0.5, W_damp 0.2 and the residual 0.8 J.
+TEST(SummaryJson, EnergyBudgetSplitsTheReleasedEnergy) {
+  RunSummary s;
+  s.status = "complete";
+  s.E_p0_J = 10.0;
+  s.E_k0_J = 0.5;
+  s.E_p_J = 6.0;
+  s.E_k_J = 0.5;
+  s.W_int_J = 2.5;
+  s.W_bc_J = 0.5;
+  s.W_damp_J = 0.2;
+  const std::string json = to_json(s);
+  const auto object = json.substr(json.find("\"energy_budget\": {"));
+  const std::string body = object.substr(0, object.find('}'));
+  for (const char* kv : {"\"released_J\": 4", "\"W_int_J\": 2.5", "\"W_bc_J\": 0.5",
+                         "\"W_damp_J\": 0.2", "\"E_err_J\": 0.8", "\"W_int_share\": 0.625",
+                         "\"W_bc_share\": 0.125", "\"W_damp_share\": 0.05", "\"E_err_share\": 0.2"}) {
+    EXPECT_NE(body.find(kv), std::string::npos) << kv << " not in " << body;
+  }
+}
+
 TEST(Progress, LineHasStepTimePercentDtEtaAndEnergyRatio) {
   const ProgressState s{1200, 0.06, 0.5, 5e-5, 1.2e-3, 1.0};
   EXPECT_EQ(format_progress(s, 42.0),

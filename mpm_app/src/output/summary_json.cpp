@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 
 #include "output/run_directory.hpp"
@@ -67,13 +68,14 @@ class ObjectWriter {
   bool first_ = true;
 };
 
-// A nested object {"<tag>": "<name>", figures...} at the second indentation level.
+// A nested object {"<tag>": "<name>", figures...} at the second indentation level (without
+// the tag when `tag` is null).
 std::string tagged_object(const char* tag, const std::string& name,
                           const std::vector<std::pair<std::string, double>>& figures) {
   std::ostringstream inner;
   inner << "{\n";
   ObjectWriter v(inner, 4);
-  v.str(tag, name);
+  if (tag != nullptr) v.str(tag, name);
   for (const auto& [key, value] : figures) v.num(key, value);
   inner << "\n  }";
   return inner.str();
@@ -116,6 +118,21 @@ std::string to_json(const RunSummary& s) {
   w.num("E_d_J", E_d);
   w.num("E_d_over_E_p0", s.E_p0_J != 0.0 ? E_d / s.E_p0_J : 0.0);
   for (const auto& [key, value] : s.analysis) w.num(key, value);
+  const double released = s.E_p0_J + s.E_k0_J - s.E_p_J - s.E_k_J;
+  const double E_err = released - s.W_int_J - s.W_damp_J - s.W_bc_J;
+  const auto share = [&](double W) {
+    return released != 0.0 ? W / released : std::numeric_limits<double>::quiet_NaN();
+  };
+  w.raw("energy_budget", tagged_object(nullptr, "",
+                                       {{"released_J", released},
+                                        {"W_int_J", s.W_int_J},
+                                        {"W_bc_J", s.W_bc_J},
+                                        {"W_damp_J", s.W_damp_J},
+                                        {"E_err_J", E_err},
+                                        {"W_int_share", share(s.W_int_J)},
+                                        {"W_bc_share", share(s.W_bc_J)},
+                                        {"W_damp_share", share(s.W_damp_J)},
+                                        {"E_err_share", share(E_err)}}));
   if (!s.stop_reason.empty()) w.raw("stop", tagged_object("reason", s.stop_reason, s.stop));
   if (!s.verification_kind.empty()) {
     w.raw("verification", tagged_object("kind", s.verification_kind, s.verification));

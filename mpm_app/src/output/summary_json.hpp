@@ -15,6 +15,12 @@
 //                      with column_collapse.at_rest also at_rest (1/0), time_s, step,
 //                      time_over_t_star, quiet_since_t_star, kinetic_ratio, hold_t_star,
 //                      min_t_star
+//   energy_budget      the energy released since t = 0, released_J = E_p0 + E_k0 - E_p - E_k,
+//                      split as in energy_budget.hpp: W_int_J (stress work: for RVEs the work
+//                      the MPM did on them, for a local law the stored and plastic work),
+//                      W_bc_J (walls and velocity constraints, e.g. the base), W_damp_J (local
+//                      damping) and the residual E_err_J (transfers and time integration),
+//                      each also as a share of released_J (*_share)
 //   verification       {"kind": ..., <error figures of that kind>} (absent for kind none)
 //   <analysis figures> top-level numbers of the scene's analysis (column_collapse: t_star_s,
 //                      runout_m, ...; see analysis/column_collapse.hpp)
@@ -52,6 +58,10 @@ struct RunSummary {
   double E_p0_J = 0.0;
   double E_p_J = 0.0;
   double E_k_J = 0.0;
+  double E_k0_J = 0.0;    // the energy budget's terms (energy_budget.hpp), since t = 0
+  double W_int_J = 0.0;
+  double W_damp_J = 0.0;
+  double W_bc_J = 0.0;
   // Figures of an analysis (e.g. column_collapse), written at the top level in this order.
   std::vector<std::pair<std::string, double>> analysis;
   std::string stop_reason;                                   // empty: no "stop" object

@@ -3,6 +3,7 @@ grid_convergence_study): run one generated scene with mpm_app on one thread and 
 figures."""
 import csv
 import json
+import math
 import os
 import subprocess
 import sys
@@ -33,3 +34,23 @@ def run_column(app, cfg, out, name, study):
     s["Eerr_over_released"] = float(last["E_err"]) / released if released > 0 else float("nan")
     s["run_s"] = time.time() - t0
     return s
+
+
+def richardson(f, ratio=2.0, safety=1.25):
+    """Richardson analysis of a figure on three grids refined by `ratio`, f = [coarse, medium,
+    fine]. Returns a dict: kind "converging" with p (observed order), extrapolated and gci
+    (Roache's grid convergence index of the fine grid, a fraction); "oscillatory" when the two
+    differences differ in sign; "slow" (with p) when p < 0.5 (diverging or not asymptotic);
+    "exact" when the fine and medium values are equal."""
+    f3, f2, f1 = f
+    e21, e32 = f2 - f1, f3 - f2
+    if e21 == 0.0:
+        return {"kind": "exact"}
+    if e21 * e32 < 0:
+        return {"kind": "oscillatory"}
+    p = math.log(abs(e32 / e21)) / math.log(ratio)
+    if p < 0.5:
+        return {"kind": "slow", "p": p}
+    d = ratio ** p - 1.0
+    return {"kind": "converging", "p": p, "extrapolated": f1 + (f1 - f2) / d,
+            "gci": safety * abs(e21 / f1) / d}

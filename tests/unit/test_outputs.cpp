@@ -351,9 +351,10 @@ TEST(SummaryJson, EnergyBudgetSplitsTheReleasedEnergy) {
   const std::string json = to_json(s);
   const auto object = json.substr(json.find("\"energy_budget\": {"));
   const std::string body = object.substr(0, object.find('}'));
-  for (const char* kv : {"\"released_J\": 4", "\"W_int_J\": 2.5", "\"W_bc_J\": 0.5",
-                         "\"W_damp_J\": 0.2", "\"E_err_J\": 0.8", "\"W_int_share\": 0.625",
-                         "\"W_bc_share\": 0.125", "\"W_damp_share\": 0.05", "\"E_err_share\": 0.2"}) {
+  for (const char* kv :
+       {"\"released_J\": 4", "\"W_int_J\": 2.5", "\"W_bc_J\": 0.5", "\"W_damp_J\": 0.2",
+        "\"E_err_J\": 0.8", "\"W_int_share\": 0.625", "\"W_bc_share\": 0.125",
+        "\"W_damp_share\": 0.05", "\"E_err_share\": 0.2"}) {
     EXPECT_NE(body.find(kv), std::string::npos) << kv << " not in " << body;
   }
 }

@@ -58,7 +58,7 @@ struct RunSummary {
   double E_p0_J = 0.0;
   double E_p_J = 0.0;
   double E_k_J = 0.0;
-  double E_k0_J = 0.0;    // the energy budget's terms (energy_budget.hpp), since t = 0
+  double E_k0_J = 0.0;  // the energy budget's terms (energy_budget.hpp), since t = 0
   double W_int_J = 0.0;
   double W_damp_J = 0.0;
   double W_bc_J = 0.0;

@@ -10,9 +10,11 @@ Exact deformation: YADE applies O.cell.velGrad from the step after the one it is
 (nextVelGrad), and trsf_{k+1} = (I + dt L_k) trsf_k. We track the velGrad already pending
 for the next step and, before each substep, choose the one after it from the remaining gap
 to trsf_target = dF * trsf_start (exact on the last substep), so that after the burst
-O.cell.trsf equals the product of all dF to round-off. Only two velGrad sets per burst are
-needed (substeps 1 and ns-1); the last one stays pending (rate continuity), which the next
-burst accounts for.
+O.cell.trsf equals the product of all dF to round-off. The velGrad set before substep ns
+(pending for the first substep of the next burst) is this burst's mean rate (dF - I)/(ns dt):
+rate continuity. Keeping the exact last correction pending instead made the rate of the
+next burst's substeps alternate, and grow without bound under increments that alternate in
+sign at ns = 2 (docs/dem_backend.md, "velGrad lag at ns = 2").
 """
 import glob
 import json
@@ -238,8 +240,13 @@ class RveSet:
                 nxt = (target * after.inverse() - I) / (remaining * dt)
                 O.cell.velGrad = nxt
                 self._pending = [nxt[a, b] for a in range(3) for b in range(3)]
+            if remaining == 0:
+                # Pending for the next burst's first substep: this burst's mean rate (the
+                # next burst accounts for it). Step ns still runs with the exact one above.
+                self._pending = [(dF[k] - (1.0 if k % 4 == 0 else 0.0)) / (ns * dt)
+                                 for k in range(9)]
+                O.cell.velGrad = _mat(y, self._pending)
             step()
-        # The last L stays pending (rate continuity): the next burst accounts for it.
 
     def step(self, dF_bytes, flags_bytes, step_no):
         y = self.y

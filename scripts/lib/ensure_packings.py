@@ -1,13 +1,15 @@
-"""Make sure the packing library a YADE scene names exists; build it from the scene's
-packing spec if it does not.
+"""Make sure the packing library a YADE or native scene names exists; build it from the
+scene's packing spec if it does not.
 
   /usr/bin/python3 scripts/lib/ensure_packings.py SCENE.yaml
 
-Reads coupling.backend, coupling.yade.packing_dir, .packings and .packing_spec (paths
-relative to the scene file's folder unless absolute). Nothing to do for other backends, for
-inline packings (empty packing_dir) or when every <packing_dir>/<name>.yade.bz2 exists.
-Otherwise runs scripts/build_packings --config <packing_spec> --out <packing_dir> and checks
-that it produced every packing the scene names. The spec's SHA-256 is kept in
+Reads coupling.backend and coupling.<backend>.packing_dir, .packings and .packing_spec
+(paths relative to the scene file's folder unless absolute). Nothing to do for other
+backends, for inline packings (empty packing_dir) or when every packing exists
+(<packing_dir>/<name>.yade.bz2 for yade, <name>.native.txt for native). Otherwise runs
+scripts/build_packings --config <packing_spec> --out <packing_dir> (for native: only for the
+YADE packings that are missing too, then scripts/export_native_packings --in <packing_dir>
+for the names) and checks that it produced every packing the scene names. The spec's SHA-256 is kept in
 <packing_dir>/.spec_sha256: when the spec changes, the packings are rebuilt.
 Several runs started together (one checkout, one packing_dir) build the library once: the
 check and the build hold an exclusive flock on <packing_dir>/.lock, so the other runs wait
@@ -35,9 +37,11 @@ def main(scene):
     except (OSError, yaml.YAMLError) as e:
         fail(f"cannot read {scene}: {e}")
     coupling = doc.get("coupling") or {}
-    if coupling.get("backend") != "yade":
+    backend = coupling.get("backend")
+    if backend not in ("yade", "native"):
         return 0
-    yade = coupling.get("yade") or {}
+    ext = ".yade.bz2" if backend == "yade" else ".native.txt"
+    yade = coupling.get(backend) or {}
     base = os.path.dirname(os.path.abspath(scene))
     pdir = yade.get("packing_dir") or ""
     names = yade.get("packings") or []
@@ -50,13 +54,13 @@ def main(scene):
             os.makedirs(pdir, exist_ok=True)
             lock = open(os.path.join(pdir, ".lock"), "a")
         except OSError as e:
-            fail(f"cannot create coupling.yade.packing_dir {pdir} ({scene}): {e}")
+            fail(f"cannot create coupling.{backend}.packing_dir {pdir} ({scene}): {e}")
         try:
             fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
             print(f"ensure_packings: waiting for another run building into {pdir}", flush=True)
             fcntl.flock(lock, fcntl.LOCK_EX)
-    missing = [n for n in names if not os.path.exists(os.path.join(pdir, n + ".yade.bz2"))]
+    missing = [n for n in names if not os.path.exists(os.path.join(pdir, n + ext))]
     digest, stamp = None, os.path.join(pdir, ".spec_sha256")
     if spec:
         spec_path = os.path.normpath(os.path.join(base, spec))
@@ -70,23 +74,33 @@ def main(scene):
     if not missing:
         return 0
     if not spec:
-        fail(f"coupling.yade.packings {missing} are not in coupling.yade.packing_dir {pdir} "
-             f"({scene}), and coupling.yade.packing_spec is empty: build them with "
-             "scripts/build_packings --config SPEC --out DIR, or name a spec")
+        fail(f"coupling.{backend}.packings {missing} are not in coupling.{backend}.packing_dir "
+             f"{pdir} ({scene}), and coupling.{backend}.packing_spec is empty: build them with "
+             "scripts/build_packings --config SPEC --out DIR"
+             + (" and scripts/export_native_packings --in DIR" if backend == "native" else "")
+             + ", or name a spec")
     spec = os.path.normpath(os.path.join(base, spec))
     if not os.path.exists(spec):
-        fail(f"coupling.yade.packing_spec {spec} does not exist ({scene})")
+        fail(f"coupling.{backend}.packing_spec {spec} does not exist ({scene})")
     root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     builder = os.path.join(root, "scripts", "build_packings")
-    print(f"ensure_packings: building {len(missing)} missing packing(s) into {pdir} from {spec}",
-          flush=True)
     os.makedirs(pdir, exist_ok=True)
-    rc = subprocess.call([builder, "--config", spec, "--out", pdir])
-    if rc != 0:
-        fail(f"scripts/build_packings failed (exit {rc})", 1)
-    still = [n for n in names if not os.path.exists(os.path.join(pdir, n + ".yade.bz2"))]
+    stale = digest is not None and (not os.path.exists(stamp) or open(stamp).read().strip() != digest)
+    if backend == "yade" or stale or any(
+            not os.path.exists(os.path.join(pdir, n + ".yade.bz2")) for n in missing):
+        print(f"ensure_packings: building {len(missing)} missing packing(s) into {pdir} from "
+              f"{spec}", flush=True)
+        rc = subprocess.call([builder, "--config", spec, "--out", pdir])
+        if rc != 0:
+            fail(f"scripts/build_packings failed (exit {rc})", 1)
+    if backend == "native":
+        rc = subprocess.call([os.path.join(root, "scripts", "export_native_packings"), "--in",
+                              pdir, "--out", pdir] + missing)
+        if rc != 0:
+            fail(f"scripts/export_native_packings failed (exit {rc})", 1)
+    still = [n for n in names if not os.path.exists(os.path.join(pdir, n + ext))]
     if still:
-        fail(f"{spec} did not produce {still} that coupling.yade.packings names ({scene}); "
+        fail(f"{spec} did not produce {still} that coupling.{backend}.packings names ({scene}); "
              "make the spec's item names and copies match")
     if digest:
         with open(stamp, "w") as f:

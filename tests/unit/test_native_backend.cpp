@@ -5,6 +5,7 @@
 
 #include <unistd.h>
 #include <Eigen/LU>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -107,6 +108,48 @@ TEST(NativeBackend, ConsolidatesToRveInitStressAndCellFollowsTheIncrementsExactl
       EXPECT_LT((rel - product[k]).cwiseAbs().maxCoeff(), 1e-12) << "step " << n;
     }
   }
+}
+
+// The velGrad lag at ns = 2 (docs/dem_backend.md): increments that alternate in sign,
+// dF = diag(1, 1, 1 -+ 1e-5), 300 coupling steps. The cell still ends every burst at the
+// product of the increments, and the velocity gradient pending for the next burst stays
+// the last burst's mean rate, |L_zz| = 1e-5 / (2 dt), so no substep runs faster than 3x
+// that. Before the fix the pending gradient was the last correction and grew by that rate
+// every burst (~300x after 300 steps).
+TEST(NativeBackend, AlternatingIncrementsAtTwoSubstepsKeepTheRateBounded) {
+  dem::NativeParams p = params();
+  p.ns = 2;
+  auto b = std::make_unique<dem::NativeBackend>(p);
+  dem::BackendContext ctx;
+  ctx.first_rve = 0;
+  ctx.n_rve = 1;
+  ctx.outputs = protocol::kKnownOutputs;
+  b->setup(ctx);
+  protocol::RveInit init;
+  std::memset(&init, 0, sizeof init);
+  init.stress[0] = init.stress[4] = init.stress[8] = -kP0;
+  RveReply reply[1];
+  b->initialise(&init, reply);
+  ASSERT_EQ(reply[0].status, 0);
+  const Eigen::Matrix3d trsf0 = b->rve(0).state.cell.trsf;
+  const double dt = b->rve(0).state.dt;
+  const double rate = 1e-5 / (2 * dt);
+  Eigen::Matrix3d product = Eigen::Matrix3d::Identity();
+  double max_rate = 0.0;
+  for (int n = 1; n <= 300; ++n) {
+    RowMajor3 f = RowMajor3::Identity();
+    f(2, 2) += (n % 2 ? -1e-5 : 1e-5);
+    product = f * product;
+    step(*b, n, {f}, reply);
+    ASSERT_EQ(reply[0].n_substeps, 2);
+    const auto& cell = b->rve(0).state.cell;
+    max_rate = std::max(
+        {max_rate, std::abs(cell.vel_grad(2, 2)), std::abs(cell.pending_vel_grad()(2, 2))});
+    EXPECT_NEAR(cell.pending_vel_grad()(2, 2), (n % 2 ? -rate : rate), 1e-9 * rate);
+    const Eigen::Matrix3d rel = cell.trsf * trsf0.inverse();
+    ASSERT_LT((rel - product).cwiseAbs().maxCoeff(), 1e-12) << "step " << n;
+  }
+  EXPECT_LE(max_rate, 3.0 * rate * (1 + 1e-4));
 }
 
 TEST(NativeBackend, CheckpointRoundTripAndMigrationAreBitwise) {

@@ -171,6 +171,43 @@ TEST_F(YadeBackend, CellTransformationEqualsProductOfIncrements) {
   EXPECT_EQ(reply[1].n_substeps, 0);  // query only
 }
 
+// The velGrad left pending after a burst (for the next burst's first substep) is that
+// burst's mean rate (dF - I)/(ns dt), whatever came before: with increments that alternate in
+// sign the old rule (the last exact correction stays pending) made the rate grow without
+// bound at ns = 2 (docs/dem_backend.md). Pending / (dF - I) is the same 1/(ns dt) every step.
+TEST_F(YadeBackend, PendingRateAfterABurstIsItsMeanRate) {
+  Mat product = trsf(0);
+  RveReply reply[2];
+  double ratio0 = 0.0;
+  for (int s = 0; s < 8; ++s) {
+    Mat dF = kI;
+    dF[8] += (s % 2 ? 1e-5 : -1e-5);
+    product = mul(dF, product);
+    step(dF, nullptr, reply, 100 + s);
+    const Mat t = trsf(0);
+    for (int i = 0; i < 9; ++i) ASSERT_NEAR(t[i], product[i], 1e-10) << "step " << s;
+    PyObject* mod = PyImport_ImportModule("mpmdem_rve");
+    PyObject* sets = PyObject_GetAttrString(mod, "_sets");
+    PyObject* state = PyObject_GetAttrString(PyList_GetItem(sets, 0), "state");
+    PyObject* pending = PyDict_GetItemString(PyList_GetItem(state, 0), "pending");  // borrowed
+    ASSERT_NE(pending, nullptr);
+    Mat L{};
+    for (int i = 0; i < 9; ++i) {
+      PyObject* v = PySequence_GetItem(pending, i);
+      L[i] = PyFloat_AsDouble(v);
+      Py_DECREF(v);
+    }
+    Py_DECREF(state);
+    Py_DECREF(sets);
+    Py_DECREF(mod);
+    for (int i = 0; i < 8; ++i) EXPECT_EQ(L[i], 0.0) << "component " << i;
+    const double ratio = L[8] / (dF[8] - 1.0);  // 1 / (ns dt)
+    EXPECT_GT(ratio, 0.0);
+    if (s == 0) ratio0 = ratio;
+    EXPECT_NEAR(ratio, ratio0, 1e-9 * ratio0) << "step " << s;
+  }
+}
+
 // A strong isochoric stretch (F_zz -> 0.45) thins the cell below 2.2 diameters: the packing
 // must be tiled (more spheres), keep its contacts and stress, and the cell must still follow
 // the product of the increments exactly.

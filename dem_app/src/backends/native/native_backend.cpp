@@ -124,6 +124,11 @@ void NativeBackend::burst(std::size_t k, const double* dF, int ns) {
       const Eigen::Matrix3d next = (target * after.inverse() - id) / (remaining * dt);
       s.cell.set_vel_grad(next);
     }
+    if (remaining == 0) {
+      // Pending for the next burst's first substep: this burst's mean rate (rate continuity;
+      // mpmdem_rve._burst does the same). Substep ns still runs with the exact one above.
+      s.cell.set_vel_grad((Eigen::Map<const RowMajor3>(dF) - id) / (ns * dt));
+    }
     native::dem_step(s, lists_[k], p_.damping);
   }
 }

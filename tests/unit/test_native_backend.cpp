@@ -36,8 +36,8 @@ dem::NativeParams params() {
 }
 
 std::unique_ptr<dem::NativeBackend> make(std::uint64_t first, std::uint64_t n, double p0,
-                                         RveReply* reply) {
-  auto b = std::make_unique<dem::NativeBackend>(params());
+                                         RveReply* reply, const dem::NativeParams& p = params()) {
+  auto b = std::make_unique<dem::NativeBackend>(p);
   dem::BackendContext ctx;
   ctx.first_rve = first;
   ctx.n_rve = n;
@@ -119,17 +119,8 @@ TEST(NativeBackend, ConsolidatesToRveInitStressAndCellFollowsTheIncrementsExactl
 TEST(NativeBackend, AlternatingIncrementsAtTwoSubstepsKeepTheRateBounded) {
   dem::NativeParams p = params();
   p.ns = 2;
-  auto b = std::make_unique<dem::NativeBackend>(p);
-  dem::BackendContext ctx;
-  ctx.first_rve = 0;
-  ctx.n_rve = 1;
-  ctx.outputs = protocol::kKnownOutputs;
-  b->setup(ctx);
-  protocol::RveInit init;
-  std::memset(&init, 0, sizeof init);
-  init.stress[0] = init.stress[4] = init.stress[8] = -kP0;
   RveReply reply[1];
-  b->initialise(&init, reply);
+  auto b = make(0, 1, kP0, reply, p);
   ASSERT_EQ(reply[0].status, 0);
   const Eigen::Matrix3d trsf0 = b->rve(0).state.cell.trsf;
   const double dt = b->rve(0).state.dt;

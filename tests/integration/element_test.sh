@@ -150,7 +150,12 @@ for name in ("isotropic", "triaxial"):
 rows = [r for r in csv.DictReader(open(os.path.join(out, "triaxial.csv"))) if int(r["step"]) > 0]
 assert all(float(r["q"]) > 0 and float(r["p"]) > 0 for r in rows), "q/p <= 0 in triaxial"
 assert t["triaxial"]["lateral_stress_max_rel_error_2nd_half"] <= 0.15, t["triaxial"]
-assert t["triaxial"]["p_final_Pa"] > t["triaxial"]["p_initial_Pa"], "p must grow (lateral held, axial up)"
+# p must grow (lateral held, axial up): the mean over the second half of the path, since the
+# last sample of a 40-sphere RVE fluctuates by +-10 % about it (the lateral servo's error).
+half = [float(r["p"]) for r in rows[len(rows) // 2:]]
+p_mean = sum(half) / len(half)
+assert p_mean > t["triaxial"]["p_initial_Pa"], \
+    f"p must grow (lateral held, axial up): mean {p_mean} Pa over the second half"
 # Constant-volume paths: the volume is constant to round-off (log det F = tr eps), and the
 # mean stress follows the drained dilatancy: a packing that contracts in drained triaxial
 # compression loses mean stress at constant volume (static liquefaction of loose packings;

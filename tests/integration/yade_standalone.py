@@ -13,8 +13,9 @@ Does to the packing what one RVE of `dem_app --backend yade` does (docs/dem_back
     cell's transformation after the burst exactly dF times the one before: YADE integrates
     trsf <- (I + dt L) trsf with the L set *before the previous* step, so substep 1 runs with
     the L left pending by the previous burst; the L for substeps 2..NS-1 is set once (before
-    substep 1) to spread what remains uniformly, and the L for substep NS (set before substep
-    NS-1) closes the gap exactly; that last L stays pending for the next burst.
+    substep 1) to spread what remains uniformly, the L for substep NS (set before substep
+    NS-1) closes the gap exactly, and the L set before substep NS, pending for the next
+    burst's substep 1, is this burst's mean rate (dF - I)/(NS dt).
 Writes OUT_CSV: step, the symmetrised utils.getStress() (9, row-major, tension positive), and
 the Hencky strain log V of trsf trsf0^-1 (9). The substep schedule is the documented one of the
 server, coded here again from YADE's API (no import of dem_app/python); numpy only for I/O and
@@ -103,6 +104,9 @@ def main(packing, df_file, ns, damping, out):
             if j == 1 or left == 1:
                 after = (I + pending * dt) * O.cell.trsf  # trsf once step j is done
                 pending = (target * after.inverse() - I) / (left * dt)
+                O.cell.velGrad = pending
+            if left == 0:  # pending for the next burst's substep 1: this burst's mean rate
+                pending = (to_yade(y, dF) - I) / (ns * dt)
                 O.cell.velGrad = pending
             O.step()
         record(n)

@@ -19,6 +19,10 @@ foreach(_case ${_et_cases})
 endforeach()
 # The native case tests the script's wiring (export, lock, scene); the native C++ is covered
 # by ASan unit tests: normal pass only.
-if(TEST element_test_native_script)
-  set_tests_properties(element_test_native_script PROPERTIES LABELS "integration;no_asan")
-endif()
+# So does the YADE case (CI time): the driver's C++ runs under ASan in the elastic cases, the
+# YADE backend's in the YadeBackend units.
+foreach(_case native_script yade_script)
+  if(TEST element_test_${_case})
+    set_tests_properties(element_test_${_case} PROPERTIES LABELS "integration;no_asan")
+  endif()
+endforeach()

@@ -3,6 +3,8 @@
 # scripts/run --resume reaches the same end state as an uninterrupted run.
 add_test(NAME fault_killed_dem_rank
          COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/fault.sh elastic)
-set_tests_properties(fault_killed_dem_rank PROPERTIES TIMEOUT 180 LABELS integration
+# Normal pass only (CI time): the C++ fault path runs under ASan in the PeerWatch units and
+# coupling_killed_client.
+set_tests_properties(fault_killed_dem_rank PROPERTIES TIMEOUT 180 LABELS "integration;no_asan"
   ENVIRONMENT "MPMDEM_BIN=${PROJECT_BINARY_DIR};MPMDEM_SRC=${PROJECT_SOURCE_DIR}"
   RUN_SERIAL TRUE)

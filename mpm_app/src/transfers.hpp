@@ -22,7 +22,7 @@ struct ScatterBuffers {
   std::vector<std::vector<double>> m;
   std::vector<std::vector<Vec3>> mv;
   std::vector<std::vector<Vec3>> f;
-  std::vector<Vec3> term, next;  // XPIC's node fields (xpic.cpp)
+  std::vector<Vec3> next;  // XPIC's node field (xpic.cpp)
   void resize(std::size_t nodes, int threads);
 };
 

@@ -48,16 +48,15 @@ void xpic_velocity(const Particles& p, const Stencils<W>& s, Grid& grid, int m,
                    ScatterBuffers& buf) {
   assert(m >= 1);
   buf.resize(grid.size(), omp_get_max_threads());
-  grid.vstar_i = grid.v0_i;  // k = 1: C(m,1) v0
-  for (auto& v : grid.vstar_i) v *= m;
-  buf.term = grid.v0_i;
+  // Richardson form of the binomial sum: v*_1 = v0, v*_{k+1} = v0 + (I - S+S) v*_k, so
+  // v*_m = sum_{j<m} (I - S+S)^j v0 = [I - (I - S+S)^m] (S+S)^-1 v0. The same polynomial as
+  // sum_k (-1)^(k+1) C(m,k) (S+S)^(k-1) v0, without its alternating binomial coefficients
+  // (C(m, m/2) grows like 2^m: the sum cancels digits for large m; this form does not).
+  grid.vstar_i = grid.v0_i;
   buf.next.resize(grid.size());
-  double c = m;  // (-1)^(k+1) C(m,k)
   for (int k = 2; k <= m; ++k) {
-    smooth(p, s, grid, buf.term, buf.next, buf);
-    buf.term.swap(buf.next);
-    c *= -static_cast<double>(m - k + 1) / k;
-    for (std::size_t i = 0; i < grid.size(); ++i) grid.vstar_i[i] += c * buf.term[i];
+    smooth(p, s, grid, grid.vstar_i, buf.next, buf);
+    for (std::size_t i = 0; i < grid.size(); ++i) grid.vstar_i[i] += grid.v0_i[i] - buf.next[i];
   }
 }
 

@@ -396,7 +396,7 @@ TEST(ConfigCrossChecks, XpicOrderOnlyWithXpic) {
                                     "xpic)"));
   const std::string high =
       load_error("xh.yaml", replaced(kMinimal, "  end_time: 0.1\n",
-                                     "  end_time: 0.1\n  transfer: xpic\n  xpic_order: 9\n"));
+                                     "  end_time: 0.1\n  transfer: xpic\n  xpic_order: 257\n"));
   EXPECT_CONTAINS(high, std::string("solver.xpic_order"));
   EXPECT_CONTAINS(high, std::string("xh.yaml"));
   mpmdem::mpm::SolverParams sp;

@@ -133,7 +133,7 @@ void add_solver_keys(config::Schema& s) {
             "pass and damps resolved modes less")
             .def("4")
             .ge(1)
-            .le(8));
+            .le(256));
   s.add(key("solver.flip", Type::kDouble, "-",
             "FLIP fraction of the PIC/FLIP blend (1: pure FLIP); only with transfer pic_flip")
             .def("0.99")

@@ -4,10 +4,12 @@
   path = derive_scene(SCENE, {"grid.cell_size": 0.05, "regions.0.max": [1, 1, 2]}, OUT, note)
 
 Keys are dotted paths into the YAML document; a numeric part indexes a list
-("regions.0.points_per_cell_xyz"). A missing section is created; indexing past a list's end
-or into a scalar is an error naming the key and the scene. Relative paths in the copy are made
-absolute against the original scene's folder (coupling.yade.packing_dir / packing_spec, and
-the same keys if an override sets them relative to the study file: pass `relative_to`).
+("regions.0.points_per_cell_xyz"). A missing section is created; a null value removes the key
+(e.g. "solver.flip": None where solver.flip_time_scale replaces it, "coupling.yade": None for
+a scene moved to the native backend); indexing past a list's end or into a scalar is an error
+naming the key and the scene. Relative paths in the copy are made absolute against the
+original scene's folder (coupling.yade|native.packing_dir / packing_spec, and the same keys if
+an override sets them relative to the study file: pass `relative_to`).
 """
 from __future__ import annotations
 
@@ -17,6 +19,7 @@ from pathlib import Path
 import yaml
 
 PATH_KEYS = ("packing_dir", "packing_spec")
+BACKENDS = ("yade", "native")  # coupling sections that hold PATH_KEYS
 
 
 class OverrideError(ValueError):
@@ -37,7 +40,9 @@ def set_key(doc: dict, key: str, value, where: str) -> None:
             else:
                 node = node[int(p)]
         elif isinstance(node, dict):
-            if last:
+            if last and value is None:
+                node.pop(p, None)
+            elif last:
                 node[p] = value
             else:
                 node = node.setdefault(p, {})
@@ -47,10 +52,11 @@ def set_key(doc: dict, key: str, value, where: str) -> None:
 
 
 def absolute_paths(doc: dict, base: Path) -> None:
-    y = ((doc.get("coupling") or {}).get("yade")) or {}
-    for key in PATH_KEYS:
-        if isinstance(y.get(key), str) and y[key] and not Path(y[key]).is_absolute():
-            y[key] = str((base / y[key]).resolve())
+    for b in BACKENDS:
+        y = ((doc.get("coupling") or {}).get(b)) or {}
+        for key in PATH_KEYS:
+            if isinstance(y.get(key), str) and y[key] and not Path(y[key]).is_absolute():
+                y[key] = str((base / y[key]).resolve())
 
 
 def derive_doc(scene: Path, overrides: dict, relative_to: Path | None = None) -> dict:
@@ -61,10 +67,11 @@ def derive_doc(scene: Path, overrides: dict, relative_to: Path | None = None) ->
     for key, value in overrides.items():
         set_key(doc, key, copy.deepcopy(value), str(scene))
     if relative_to is not None:  # paths set by the overrides are relative to their own file
-        y = ((doc.get("coupling") or {}).get("yade")) or {}
-        for key in PATH_KEYS:
-            if f"coupling.yade.{key}" in overrides and not Path(y[key]).is_absolute():
-                y[key] = str((Path(relative_to).resolve().parent / y[key]).resolve())
+        for b in BACKENDS:
+            y = ((doc.get("coupling") or {}).get(b)) or {}
+            for key in PATH_KEYS:
+                if f"coupling.{b}.{key}" in overrides and not Path(y[key]).is_absolute():
+                    y[key] = str((Path(relative_to).resolve().parent / y[key]).resolve())
     return doc
 
 

@@ -26,3 +26,8 @@ foreach(_case native_script yade_script)
     set_tests_properties(element_test_${_case} PROPERTIES LABELS "integration;no_asan")
   endif()
 endforeach()
+# scripts/element_seed_study's config and statistics steps (no DEM run): fast, normal pass only
+# (Python only).
+add_test(NAME element_seed_study_steps COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/element_seeds.sh)
+set_tests_properties(element_seed_study_steps PROPERTIES TIMEOUT 60 LABELS "integration;no_asan"
+                     ENVIRONMENT "${_et_env}")

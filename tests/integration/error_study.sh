@@ -69,4 +69,33 @@ bad unknown_key 's/^design: full/design: full\nrepeats: 3/' "unknown key 'repeat
 bad version 's/^study_version: 1/study_version: 7/' "study_version 7"
 bad default 's/default: 0.02/default: 0.03/' "knobs\[0\].default 0.03"
 bad path 's/grid.extent: \[\$v, \$v, 1.2\]/grid.cell_size.x: 1/' "grid.cell_size.x"
+# A shipped study that moves the YADE slice to native RVEs (configs/studies/grain_stiffness.yaml):
+# its scenes are written without running (--dry-run); a null override removes the key
+# (solver.flip, coupling.yade), native packing paths are made absolute against the file that
+# sets them, and every scene loads.
+"$evr" "$src/configs/studies/grain_stiffness.yaml" --dry-run --out "$work/gs" >"$work/gs.log" 2>&1 ||
+  { cat "$work/gs.log" >&2; fail "grain_stiffness dry run"; }
+/usr/bin/python3 - "$work/gs/scenes" "$src" <<'PY' || exit 1
+import os, sys, yaml
+d, src = sys.argv[1:3]
+names = sorted(os.listdir(d))
+assert names == ["base.yaml", "grain_young=6e+07.yaml", "reference.yaml"], names
+for n in names:
+    c = yaml.safe_load(open(os.path.join(d, n)))
+    assert "flip" not in c["solver"] and c["solver"]["flip_time_scale"] == 0.03, (n, c["solver"])
+    assert "yade" not in c["coupling"] and c["coupling"]["backend"] == "native", n
+    nat = c["coupling"]["native"]
+    for k in ("packing_dir", "packing_spec"):
+        assert os.path.isabs(nat[k]), (n, k, nat[k])
+    assert os.path.isfile(nat["packing_spec"]), (n, nat["packing_spec"])
+ref = yaml.safe_load(open(os.path.join(d, "reference.yaml")))["coupling"]["native"]
+assert ref["packing_spec"] == os.path.join(src, "configs/studies/packings/column_collapse_E2e8.yaml"), ref
+base = yaml.safe_load(open(os.path.join(d, "base.yaml")))["coupling"]["native"]
+assert base["packing_spec"] == os.path.join(src, "configs/packings/column_collapse.yaml"), base
+print("grain_stiffness scenes: ok")
+PY
+for f in "$work"/gs/scenes/*.yaml; do
+  "$MPMDEM_BIN/mpm_app/mpm_app" --check-config "$f" >/dev/null || fail "$f does not load"
+done
+[[ ! -e $work/gs/runs/base ]] || fail "the dry run ran something"
 echo "error_study: ok"

@@ -84,6 +84,7 @@ struct SolverParams {
   double flip = 0.99;  // FLIP fraction of the PIC/FLIP blend (1 = pure FLIP; pic_flip only)
   // > 0: the PIC share of the blend is dt / flip_time_scale per step (a fixed filtering rate
   // per unit time, so the dissipation does not grow with the step count) in place of 1 - flip.
+  // The scene key solver.flip_velocity_scale U sets it to cell_size / U.
   double flip_time_scale = 0.0;  // [s]
   int xpic_order = 4;            // m of XPIC(m) (xpic only; 1 = PIC)
   double cfl = 0.5;              // Courant number

@@ -71,8 +71,8 @@ bad default 's/default: 0.02/default: 0.03/' "knobs\[0\].default 0.03"
 bad path 's/grid.extent: \[\$v, \$v, 1.2\]/grid.cell_size.x: 1/' "grid.cell_size.x"
 # A shipped study that moves the YADE slice to native RVEs (configs/studies/grain_stiffness.yaml):
 # its scenes are written without running (--dry-run); a null override removes the key
-# (solver.flip, coupling.yade), native packing paths are made absolute against the file that
-# sets them, and every scene loads.
+# (coupling.yade), native packing paths are made absolute against the file that sets them,
+# and every scene loads.
 "$evr" "$src/configs/studies/grain_stiffness.yaml" --dry-run --out "$work/gs" >"$work/gs.log" 2>&1 ||
   { cat "$work/gs.log" >&2; fail "grain_stiffness dry run"; }
 /usr/bin/python3 - "$work/gs/scenes" "$src" <<'PY' || exit 1
@@ -82,7 +82,7 @@ names = sorted(os.listdir(d))
 assert names == ["base.yaml", "grain_young=6e+07.yaml", "reference.yaml"], names
 for n in names:
     c = yaml.safe_load(open(os.path.join(d, n)))
-    assert "flip" not in c["solver"] and c["solver"]["flip_time_scale"] == 0.03, (n, c["solver"])
+    assert "flip" not in c["solver"] and c["solver"]["flip_velocity_scale"] == 1.75, (n, c["solver"])
     assert "yade" not in c["coupling"] and c["coupling"]["backend"] == "native", n
     nat = c["coupling"]["native"]
     for k in ("packing_dir", "packing_spec"):

@@ -44,8 +44,9 @@ TEST(ConfigValidation, UnknownNestedKeyWithoutCloseMatchListsKnownKeys) {
       scene_error(replaced(kMinimal, "  end_time: 0.1\n", "  end_time: 0.1\n  zzzzzz: 1\n"));
   EXPECT_CONTAINS(msg, std::string("unknown key 'solver.zzzzzz'"));
   EXPECT_CONTAINS(
-      msg, std::string(
-               "known keys here: scheme, shape, transfer, xpic_order, flip, flip_time_scale, cfl"));
+      msg,
+      std::string("known keys here: scheme, shape, transfer, xpic_order, flip, flip_time_scale, "
+                  "flip_velocity_scale, cfl"));
   EXPECT_CONTAINS(msg, std::string("line 11"));
 }
 
@@ -404,6 +405,34 @@ TEST(ConfigCrossChecks, XpicOrderOnlyWithXpic) {
   EXPECT_DOUBLE_EQ(mpmdem::mpm::flip_fraction(sp, 0.003), 0.0);  // pure XPIC unless a time scale
   sp.flip_time_scale = 0.03;
   EXPECT_DOUBLE_EQ(mpmdem::mpm::flip_fraction(sp, 0.003), 0.9);
+}
+
+// solver.flip_velocity_scale U sets the filter time scale to cell_size / U, and excludes
+// solver.flip, solver.flip_time_scale and APIC.
+TEST(ConfigCrossChecks, FlipVelocityScaleSetsTheTimeScaleFromTheCell) {
+  const std::string file = write_file(
+      "fvs.yaml",
+      replaced(kMinimal, "  end_time: 0.1\n", "  end_time: 0.1\n  flip_velocity_scale: 1.6\n"));
+  const mpmdem::mpm::Scene scene = load_scene(file);
+  EXPECT_DOUBLE_EQ(scene.solver.flip_time_scale, 0.1 / 1.6);  // kMinimal: cell_size 0.1
+  EXPECT_DOUBLE_EQ(mpmdem::mpm::flip_fraction(scene.solver, 0.00625), 0.9);
+  const std::string with_flip = load_error(
+      "fvs_flip.yaml", replaced(kMinimal, "  end_time: 0.1\n",
+                                "  end_time: 0.1\n  flip: 0.99\n  flip_velocity_scale: 1.6\n"));
+  EXPECT_CONTAINS(with_flip, std::string("solver.flip_velocity_scale"));
+  EXPECT_CONTAINS(with_flip, std::string("replaces solver.flip, which is set too"));
+  const std::string with_tau = load_error(
+      "fvs_tau.yaml",
+      replaced(kMinimal, "  end_time: 0.1\n",
+               "  end_time: 0.1\n  flip_time_scale: 0.03\n  flip_velocity_scale: 1.6\n"));
+  EXPECT_CONTAINS(with_tau, std::string("solver.flip_velocity_scale"));
+  EXPECT_CONTAINS(with_tau, std::string("which is set too"));
+  const std::string apic =
+      load_error("fvs_apic.yaml", replaced(kMinimal, "  end_time: 0.1\n",
+                                           "  end_time: 0.1\n  shape: bspline2\n  transfer: apic\n"
+                                           "  flip_velocity_scale: 1.6\n"));
+  EXPECT_CONTAINS(apic, std::string("solver.flip_velocity_scale"));
+  EXPECT_CONTAINS(apic, std::string("the transfer is apic"));
 }
 
 TEST(ConfigCrossChecks, FlipTimeScaleReplacesFlip) {

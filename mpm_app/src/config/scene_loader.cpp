@@ -183,7 +183,7 @@ std::vector<VelocityConstraintParams> load_constraints(const Config& cfg, const 
   return out;
 }
 
-SolverParams load_solver(const Config& cfg) {
+SolverParams load_solver(const Config& cfg, double cell_size) {
   SolverParams s;
   s.scheme = cfg.string("solver.scheme") == "usl" ? Scheme::kUSL : Scheme::kMUSL;
   s.shape =
@@ -210,15 +210,24 @@ SolverParams load_solver(const Config& cfg) {
   s.flip = cfg.number("solver.flip");
   s.xpic_order = static_cast<int>(cfg.integer("solver.xpic_order"));
   s.flip_time_scale = cfg.number("solver.flip_time_scale");
-  if (s.flip_time_scale > 0.0 && s.transfer == Transfer::kAPIC) {
-    cfg.fail(
-        "solver.flip_time_scale",
-        "applies only to solver.transfer: pic_flip (the transfer is " + transfer + "); remove it");
+  const double u = cfg.number("solver.flip_velocity_scale");
+  for (const char* k : {"solver.flip_time_scale", "solver.flip_velocity_scale"}) {
+    if (!(cfg.number(k) > 0.0)) continue;
+    if (s.transfer == Transfer::kAPIC) {
+      cfg.fail(k, std::string("applies only to solver.transfer: pic_flip or xpic (the transfer "
+                              "is ") +
+                      transfer + "); remove it");
+    }
+    if (cfg.has("solver.flip")) {
+      cfg.fail(k, "replaces solver.flip, which is set too; remove one of them");
+    }
   }
-  if (s.flip_time_scale > 0.0 && cfg.has("solver.flip")) {
-    cfg.fail("solver.flip_time_scale",
-             "replaces solver.flip, which is set too; remove one of them");
+  if (u > 0.0 && s.flip_time_scale > 0.0) {
+    cfg.fail("solver.flip_velocity_scale",
+             "sets solver.flip_time_scale (grid.cell_size / flip_velocity_scale), which is set "
+             "too; remove one of them");
   }
+  if (u > 0.0) s.flip_time_scale = cell_size / u;
   s.cfl = cfg.number("solver.cfl");
   s.dt_max = cfg.number("solver.dt_max");
   s.dt_fixed = cfg.number("solver.dt_fixed");
@@ -365,7 +374,7 @@ Scene load_scene(const std::string& file) {
   scene.regions = load_regions(cfg, d);
   scene.walls = load_walls(cfg);
   scene.constraints = load_constraints(cfg, d);
-  scene.solver = load_solver(cfg);
+  scene.solver = load_solver(cfg, scene.grid.cell_size);
   scene.constitutive = load_constitutive(cfg);
   scene.coupling = load_coupling(cfg);
   scene.output = load_output(cfg);

@@ -146,6 +146,15 @@ void add_solver_keys(config::Schema& s) {
             "a step is dt / flip_time_scale, the rest FLIP; 0: pure XPIC")
             .def("0")
             .ge(0));
+  s.add(key("solver.flip_velocity_scale", Type::kDouble, "m/s",
+            "pic_flip or xpic: sets solver.flip_time_scale to grid.cell_size / "
+            "flip_velocity_scale, i.e. the blend filters once per time a point moving at this "
+            "speed needs to cross a cell. As flip_time_scale the result does not drift with "
+            "the time step or the material's stiffness, and the filter follows the cell size "
+            "as the PIC/FLIP 0.99 blend does at cfl 0.5 (1.75 m/s reproduces that blend's "
+            "column collapse at 0.11 m cells: docs/transfers.md); 0: off")
+            .def("0")
+            .ge(0));
   s.add(key("solver.cfl", Type::kDouble, "-",
             "Courant number: dt = cfl cell_size / c, c the largest P-wave speed")
             .def("0.5")

@@ -79,7 +79,8 @@ bad path 's/grid.extent: \[\$v, \$v, 1.2\]/grid.cell_size.x: 1/' "grid.cell_size
 import os, sys, yaml
 d, src = sys.argv[1:3]
 names = sorted(os.listdir(d))
-assert names == ["base.yaml", "grain_young=6e+07.yaml", "reference.yaml"], names
+assert names == ["base.yaml", "grain_young=2e+08.yaml", "grain_young=6e+07.yaml",
+                 "reference.yaml"], names
 for n in names:
     c = yaml.safe_load(open(os.path.join(d, n)))
     assert "flip" not in c["solver"] and c["solver"]["flip_velocity_scale"] == 1.75, (n, c["solver"])
@@ -89,7 +90,7 @@ for n in names:
         assert os.path.isabs(nat[k]), (n, k, nat[k])
     assert os.path.isfile(nat["packing_spec"]), (n, nat["packing_spec"])
 ref = yaml.safe_load(open(os.path.join(d, "reference.yaml")))["coupling"]["native"]
-assert ref["packing_spec"] == os.path.join(src, "configs/studies/packings/column_collapse_E2e8.yaml"), ref
+assert ref["packing_spec"] == os.path.join(src, "configs/studies/packings/column_collapse_E6e8.yaml"), ref
 base = yaml.safe_load(open(os.path.join(d, "base.yaml")))["coupling"]["native"]
 assert base["packing_spec"] == os.path.join(src, "configs/packings/column_collapse.yaml"), base
 print("grain_stiffness scenes: ok")

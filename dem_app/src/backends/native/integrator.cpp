@@ -40,7 +40,7 @@ inline bool update_contact(RveState& s, std::size_t k, bool is_new, double tan_p
   const std::uint32_t a = c.id1[k], b = c.id2[k];
   // Most contacts lie inside the cell (cellDist 0): no image shift to compute (adding the
   // zero shift would change no bit).
-  const bool image = c.cell[k] != Eigen::Vector3i::Zero();
+  const bool image = c.cell[k] != CellDist::Zero();
   const Vec3 x2 = image ? Vec3(sp.pos[b] + s.cell.shift(c.cell[k])) : sp.pos[b];
   const Vec3 shift_vel = image ? s.cell.shift_vel(c.cell[k]) : Vec3::Zero();
   const ScGeom g = sc_geom(sp.pos[a], x2, sp.radius[a], sp.radius[b], sp.vel[a], sp.vel[b],
@@ -48,7 +48,8 @@ inline bool update_contact(RveState& s, std::size_t k, bool is_new, double tan_p
   c.normal[k] = g.normal;
   c.penetration[k] = g.penetration;
   if (g.penetration < 0) return false;
-  const FrictPhys phys{c.kn[k], c.ks[k], tan_phi};
+  FrictPhys phys = contact_stiffness(s, k);
+  phys.tan_phi = tan_phi;
   const Vec3 f = cundall_strack(g, phys, c.shear_force[k]);
   const Vec3 nf = g.normal.cross(f);
   sp.force[a] += f;
@@ -78,11 +79,9 @@ void compute_forces(RveState& s, NeighbourList& nl) {
       ++k;
       continue;
     }
-    const std::size_t last = c.size() - 1;
-    nl.contact_removed(k, last);
+    nl.contact_removed(c, k);
     c.swap_remove(k);
   }
-  const Material& m = s.material;
   for (std::uint32_t a = 0; a < sp.size(); ++a) {
     const std::size_t row_end = nl.row_begin(a + 1);
     for (std::size_t p = nl.row_begin(a); p < row_end; ++p) {
@@ -93,12 +92,10 @@ void compute_forces(RveState& s, NeighbourList& nl) {
           (zero ? sp.pos[b] : Vec3(sp.pos[b] + s.cell.shift(nl.pair_cell(p)))) - sp.pos[a];
       const double r = sp.radius[a] + sp.radius[b];
       if (r * r - d.squaredNorm() < 0) continue;  // Ig2_Sphere_Sphere_ScGeom's test
-      const FrictPhys phys = frict_phys(m.young, sp.radius[a], m.ks_kn, m.friction_angle, m.young,
-                                        sp.radius[b], m.ks_kn, m.friction_angle);
-      const std::size_t k = c.add(a, b, nl.pair_cell(p), phys.kn, phys.ks);
-      nl.contact_added(p, k);
-      if (!update_contact(s, k, true, phys.tan_phi)) {
-        nl.contact_removed(k, k);
+      const std::size_t k = c.add(a, b, nl.pair_cell(p));
+      if (update_contact(s, k, true, tan_phi)) {
+        nl.contact_added(p);
+      } else {
         c.swap_remove(k);
       }
     }

@@ -10,7 +10,7 @@ Eigen::Matrix3d love_weber_stress(const RveState& s) {
   const auto& c = s.contacts;
   for (std::size_t k = 0; k < c.size(); ++k) {
     const Vec3 branch = s.spheres.pos[c.id1[k]] - s.spheres.pos[c.id2[k]] - s.cell.shift(c.cell[k]);
-    sum += (c.normal_force(k) + c.shear_force[k]) * branch.transpose();
+    sum += (normal_force(s, k) + c.shear_force[k]) * branch.transpose();
   }
   return sum / s.cell.volume();
 }
@@ -23,11 +23,12 @@ double stiffness_bound(const RveState& s) {
     const double l2 = l.squaredNorm();
     const Vec3& n = c.normal[k];
     const double fs = c.shear_force[k].norm();
+    const FrictPhys phys = contact_stiffness(s, k);
     const Vec3 t = fs > 0 ? Vec3(c.shear_force[k] / fs) : Vec3::Zero();
     for (int i = 0; i < 3; ++i) {
       const double ni2 = n[i] * n[i];
-      cii[i] += l2 * ni2 * (c.kn[k] * ni2 + c.ks[k] * t[i] * t[i]);
-      si[i] += c.kn[k] * l2 * ni2;
+      cii[i] += l2 * ni2 * (phys.kn * ni2 + phys.ks * t[i] * t[i]);
+      si[i] += phys.kn * l2 * ni2;
     }
   }
   const double a = s.material.ks_kn;
@@ -54,8 +55,9 @@ double elastic_energy(const RveState& s) {
   const auto& c = s.contacts;
   double e = 0;
   for (std::size_t k = 0; k < c.size(); ++k) {
+    const FrictPhys phys = contact_stiffness(s, k);
     e += 0.5 *
-         (c.normal_force(k).squaredNorm() / c.kn[k] + c.shear_force[k].squaredNorm() / c.ks[k]);
+         (normal_force(s, k).squaredNorm() / phys.kn + c.shear_force[k].squaredNorm() / phys.ks);
   }
   return e;
 }
@@ -89,7 +91,7 @@ double unbalanced_force(const RveState& s) {
   double body = 0, contact = 0;
   for (const auto& f : sp.force) body += f.norm();
   for (std::size_t k = 0; k < c.size(); ++k) {
-    contact += (c.normal_force(k) + c.shear_force[k]).norm();
+    contact += (normal_force(s, k) + c.shear_force[k]).norm();
   }
   return (body / static_cast<double>(sp.size())) / (contact / static_cast<double>(c.size()));
 }

@@ -2,8 +2,21 @@
 #include "backends/native/rve_state.hpp"
 
 #include <algorithm>
+#include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace mpmdem::dem::native {
+
+CellDist to_cell_dist(const Eigen::Vector3i& c) {
+  constexpr int kMax = std::numeric_limits<std::int16_t>::max();
+  if (c.cwiseAbs().maxCoeff() >= kMax) {
+    throw std::runtime_error("native backend: image offset (" + std::to_string(c[0]) + ", " +
+                             std::to_string(c[1]) + ", " + std::to_string(c[2]) +
+                             ") of 32767 cells or more (unwrapped positions): not supported");
+  }
+  return c.cast<std::int16_t>();
+}
 
 void Spheres::resize(std::size_t n) {
   radius.resize(n);
@@ -53,14 +66,13 @@ void Spheres::release_forces() {
 }
 
 std::size_t Contacts::heap_bytes() const {
-  return cap(id1) + cap(id2) + cap(cell) + cap(normal) + cap(shear_force) + cap(kn) + cap(ks) +
-         cap(penetration);
+  return cap(id1) + cap(id2) + cap(cell) + cap(normal) + cap(shear_force) + cap(penetration);
 }
 
 void Contacts::fit() {
   const std::size_t n = std::max<std::size_t>(16, size() + size() / 8);
   fit_to(id1, n), fit_to(id2, n), fit_to(cell, n), fit_to(normal, n), fit_to(shear_force, n);
-  fit_to(kn, n), fit_to(ks, n), fit_to(penetration, n);
+  fit_to(penetration, n);
 }
 
 void Contacts::clear() {
@@ -69,21 +81,16 @@ void Contacts::clear() {
   cell.clear();
   normal.clear();
   shear_force.clear();
-  kn.clear();
-  ks.clear();
   penetration.clear();
 }
 
-std::size_t Contacts::add(std::uint32_t a, std::uint32_t b, const Eigen::Vector3i& c,
-                          double kn_value, double ks_value) {
+std::size_t Contacts::add(std::uint32_t a, std::uint32_t b, const CellDist& c) {
   if (id1.size() == id1.capacity()) fit();
   id1.push_back(a);
   id2.push_back(b);
   cell.push_back(c);
   normal.push_back(Vec3::Zero());
   shear_force.push_back(Vec3::Zero());
-  kn.push_back(kn_value);
-  ks.push_back(ks_value);
   penetration.push_back(0.0);
   return id1.size() - 1;
 }
@@ -96,8 +103,6 @@ void Contacts::swap_remove(std::size_t k) {
     cell[k] = cell[last];
     normal[k] = normal[last];
     shear_force[k] = shear_force[last];
-    kn[k] = kn[last];
-    ks[k] = ks[last];
     penetration[k] = penetration[last];
   }
   id1.pop_back();
@@ -105,8 +110,6 @@ void Contacts::swap_remove(std::size_t k) {
   cell.pop_back();
   normal.pop_back();
   shear_force.pop_back();
-  kn.pop_back();
-  ks.pop_back();
   penetration.pop_back();
 }
 

@@ -52,7 +52,8 @@ inline ScGeom sc_geom(const Eigen::Vector3d& x1, const Eigen::Vector3d& x2, doub
   ScGeom g;
   Eigen::Vector3d n = x2 - x1;
   const double dist = n.norm();
-  n /= dist;
+  const double inv_dist = 1 / dist;  // one division (YADE: n /= dist)
+  n *= inv_dist;
   g.penetration = r1 + r2 - dist;
   if (!is_new) {
     g.orthonormal_axis = prev_normal.cross(n);
@@ -63,10 +64,11 @@ inline ScGeom sc_geom(const Eigen::Vector3d& x1, const Eigen::Vector3d& x2, doub
     g.twist_axis.setZero();
   }
   g.normal = n;
-  // ScGeom::getIncidentVel with avoidGranularRatcheting (McNamara's alpha).
-  const double alpha = (r1 + r2) / (r1 + r2 - g.penetration);
-  Eigen::Vector3d rel =
-      (v2 - v1) * alpha + w2.cross(-r2 * n) - w1.cross(r1 * n) + alpha * shift_vel;
+  // ScGeom::getIncidentVel with avoidGranularRatcheting (McNamara's alpha,
+  // (r1 + r2) / (r1 + r2 - penetration) = (r1 + r2) / dist to rounding).
+  const double alpha = (r1 + r2) * inv_dist;
+  // (v2 - v1) alpha + w2 x (-r2 n) - w1 x (r1 n) + alpha shift_vel, factored (to rounding).
+  Eigen::Vector3d rel = (v2 - v1 + shift_vel) * alpha - (r1 * w1 + r2 * w2).cross(n);
   rel -= n.dot(rel) * n;
   g.shear_inc = rel * dt;
   return g;

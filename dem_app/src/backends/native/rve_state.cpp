@@ -27,8 +27,20 @@ void Spheres::resize(std::size_t n) {
   ang_vel.resize(n, Vec3::Zero());
   ori.resize(n, Quat::Identity());
   ref_ori.resize(n, Quat::Identity());
-  force.resize(n, Vec3::Zero());
-  torque.resize(n, Vec3::Zero());
+  release_forces();
+}
+
+void Spheres::prepare_scratch() {
+  const std::size_t n = size();
+  if (force.size() == n && inv_mass.size() == n) return;
+  force.resize(n);
+  torque.resize(n);
+  inv_mass.resize(n);
+  inv_inertia.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    inv_mass[i] = 1 / mass[i];
+    inv_inertia[i] = 1 / inertia[i];
+  }
 }
 
 void Spheres::push_back(double r, double m, double inertia_value, const Vec3& x) {
@@ -57,12 +69,14 @@ void fit_to(std::vector<T>& v, std::size_t n) {
 
 std::size_t Spheres::heap_bytes() const {
   return cap(radius) + cap(mass) + cap(inertia) + cap(pos) + cap(vel) + cap(ang_vel) + cap(ori) +
-         cap(ref_ori) + cap(force) + cap(torque);
+         cap(ref_ori) + cap(force) + cap(torque) + cap(inv_mass) + cap(inv_inertia);
 }
 
 void Spheres::release_forces() {
   std::vector<Vec3>().swap(force);
   std::vector<Vec3>().swap(torque);
+  std::vector<double>().swap(inv_mass);
+  std::vector<double>().swap(inv_inertia);
 }
 
 std::size_t Contacts::heap_bytes() const {

@@ -29,11 +29,15 @@ struct Spheres {
   std::vector<double> radius, mass, inertia;  // per sphere [m], [kg], [kg m2]
   std::vector<Vec3> pos, vel, ang_vel;        // unwrapped positions, as YADE keeps them
   std::vector<Quat> ori, ref_ori;             // orientation, and the one rotation counts from
-  // Accumulated in a DEM step. Scratch: the backend releases them after each coupling step
-  // (release_forces; compute_forces sizes them again), so a resident RVE does not keep them.
+  // Scratch of the DEM steps: force and torque (accumulated in a step), 1 / mass and
+  // 1 / inertia (for Newton). The backend releases them after each coupling step
+  // (release_forces; resize does too), compute_forces sizes them again (prepare_scratch), so
+  // a resident RVE does not keep them.
   std::vector<Vec3> force, torque;
+  std::vector<double> inv_mass, inv_inertia;
   std::size_t size() const { return radius.size(); }
   void resize(std::size_t n);
+  void prepare_scratch();
   void push_back(double r, double m, double inertia_value, const Vec3& x);
   std::size_t heap_bytes() const;  // allocated capacity of all arrays
   void release_forces();
@@ -74,11 +78,17 @@ struct RveState {
 };
 
 // kn and ks of contact k (Ip2_FrictMat_FrictMat_FrictPhys from the two radii and the RVE's
-// one material: the same bits at every call; tan_phi 0).
+// one material, the same bits at every call; tan_phi 0). With one material ks = (ks/kn) kn
+// (YADE's second harmonic mean, to rounding, without its division).
 inline FrictPhys contact_stiffness(const RveState& s, std::size_t k) {
   const Material& m = s.material;
-  return frict_stiffness(m.young, s.spheres.radius[s.contacts.id1[k]], m.ks_kn, m.young,
-                         s.spheres.radius[s.contacts.id2[k]], m.ks_kn);
+  const double e1 = m.young * s.spheres.radius[s.contacts.id1[k]];
+  const double e2 = m.young * s.spheres.radius[s.contacts.id2[k]];
+  FrictPhys f;
+  f.kn = 2 * e1 * e2 / (e1 + e2);
+  f.ks = m.ks_kn * f.kn;
+  f.tan_phi = 0;
+  return f;
 }
 
 // FrictPhys::normalForce of the last step, recomputed exactly as CundallStrack computed it.

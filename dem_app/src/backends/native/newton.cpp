@@ -65,10 +65,21 @@ void load(const Spheres& sp, std::size_t i0, int m, Block& b) {
   }
 }
 
+// The same code compiled for AVX-512 and AVX2 besides the baseline, the one the CPU supports
+// chosen at load time (GCC's function multiversioning): more lanes, the same bits (no
+// contraction into FMA: dem_server is built with -ffp-contract=off).
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
+#define MPMDEM_SIMD_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
+#define MPMDEM_ALWAYS_INLINE inline __attribute__((always_inline))
+#else
+#define MPMDEM_SIMD_CLONES
+#define MPMDEM_ALWAYS_INLINE inline
+#endif
 // The block's arithmetic, lane by lane (no control flow: it vectorises); kDvg: the
 // cell's gradient changed in this step (leapfrogTranslate's extra term).
 template <bool kDvg>
-void advance(Block& b, const StepConstants& k, const Eigen::Matrix3d& dvg) {
+MPMDEM_ALWAYS_INLINE void advance_lanes(Block& __restrict b, const StepConstants k,
+                                        const Eigen::Matrix3d dvg) {
   for (int j = 0; j < kBlock; ++j) {
     double x[3], v[3], w[3], fluct[3], lin[3];
     for (int a = 0; a < 3; ++a) x[a] = b.x[a][j], v[a] = b.v[a][j], w[a] = b.w[a][j];
@@ -109,6 +120,14 @@ void advance(Block& b, const StepConstants& k, const Eigen::Matrix3d& dvg) {
   }
 }
 
+MPMDEM_SIMD_CLONES void advance(Block& __restrict b, const StepConstants& k) {
+  advance_lanes<false>(b, k, Eigen::Matrix3d::Zero());
+}
+MPMDEM_SIMD_CLONES void advance_dvg(Block& __restrict b, const StepConstants& k,
+                                    const Eigen::Matrix3d& dvg) {
+  advance_lanes<true>(b, k, dvg);
+}
+
 }  // namespace
 
 void newton(RveState& s, double damping) {
@@ -127,9 +146,9 @@ void newton(RveState& s, double damping) {
     const int m = static_cast<int>(std::min<std::size_t>(kBlock, n - i0));
     load(sp, i0, m, b);
     if (dvg_nonzero) {
-      advance<true>(b, k, dvg);
+      advance_dvg(b, k, dvg);
     } else {
-      advance<false>(b, k, dvg);
+      advance(b, k);
     }
     for (int j = 0; j < m; ++j) {
       const std::size_t i = i0 + j;

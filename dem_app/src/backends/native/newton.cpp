@@ -2,6 +2,7 @@
 // fields are copied into xyz-split arrays so that the arithmetic vectorises (the sphere
 // arrays themselves keep xyz interleaved). YADE's formulas: Cundall's non-viscous damping on
 // the fluctuating velocity, homoDeform = 2, leapfrogTranslate and leapfrogSphericalRotate.
+#include <algorithm>
 #include <cmath>
 
 #include "backends/native/integrator.hpp"

@@ -37,7 +37,7 @@ TEST(NativeCell, FlipKeepsContactImagesInPlace) {
   s.spheres.push_back(1e-3, m, 0.4 * m * 1e-6, Vec3(1e-3, 2e-3, 5e-3));
   s.spheres.push_back(1e-3, m, 0.4 * m * 1e-6, Vec3(8e-3, 9e-3, 5e-3));
   const Eigen::Vector3i c(1, -1, 0);
-  s.contacts.add(0, 1, c, 1, 1);
+  s.contacts.add(0, 1, to_cell_dist(c));
   const Vec3 before = s.spheres.pos[1] + s.cell.shift(c);
   const double volume = s.cell.volume();
   NeighbourList nl;

@@ -52,7 +52,7 @@ std::set<Key> list_pairs(const RveState& s, const NeighbourList& nl) {
   for (std::uint32_t i = 0; i < sp.size(); ++i) {
     for (std::size_t p = nl.row_begin(i); p < nl.row_begin(i + 1); ++p) {
       const std::uint32_t j = nl.pair_j(p);
-      const Eigen::Vector3i c = nl.pair_cell(p);
+      const Eigen::Vector3i c = nl.pair_cell(p).cast<int>();
       const double r = sp.radius[i] + sp.radius[j];
       const Vec3 d = sp.pos[j] + s.cell.shift(c) - sp.pos[i];
       if (d.squaredNorm() < r * r) {

@@ -9,7 +9,7 @@ namespace mpmdem::dem::native {
 
 namespace {
 
-constexpr char kMagic[8] = {'M', 'P', 'M', 'D', 'N', 'A', 'T', '3'};
+constexpr char kMagic[8] = {'M', 'P', 'M', 'D', 'N', 'A', 'T', '4'};
 
 class Out {
  public:
@@ -89,7 +89,7 @@ std::string encode(const RveRecord& r) {
   const Contacts& c = s.contacts;
   o.put_vector(c.id1), o.put_vector(c.id2), o.put_vector(c.cell);
   o.put_vector(c.normal), o.put_vector(c.shear_force);
-  o.put_vector(c.kn), o.put_vector(c.ks), o.put_vector(c.penetration);
+  o.put_vector(c.penetration);
   o.put(r.point);
   o.put(r.p0);
   o.put(r.tilings);
@@ -116,7 +116,7 @@ RveRecord decode(const std::string& blob) {
   Contacts& c = s.contacts;
   in.get_vector(c.id1), in.get_vector(c.id2), in.get_vector(c.cell);
   in.get_vector(c.normal), in.get_vector(c.shear_force);
-  in.get_vector(c.kn), in.get_vector(c.ks), in.get_vector(c.penetration);
+  in.get_vector(c.penetration);
   in.get(r.point);
   in.get(r.p0);
   in.get(r.tilings);
@@ -128,8 +128,8 @@ RveRecord decode(const std::string& blob) {
   const bool consistent = sp.mass.size() == n && sp.inertia.size() == n && sp.pos.size() == n &&
                           sp.vel.size() == n && sp.ang_vel.size() == n && sp.ori.size() == n &&
                           sp.ref_ori.size() == n && c.id2.size() == m && c.cell.size() == m &&
-                          c.normal.size() == m && c.shear_force.size() == m && c.kn.size() == m &&
-                          c.ks.size() == m && c.penetration.size() == m;
+                          c.normal.size() == m && c.shear_force.size() == m &&
+                          c.penetration.size() == m;
   if (!consistent || !in.done()) In::fail();
   for (std::size_t k = 0; k < m; ++k) {
     if (c.id1[k] >= n || c.id2[k] >= n) In::fail();

@@ -13,8 +13,9 @@ bool flip_cell(RveState& s, NeighbourList& nl) {
   const Eigen::Matrix3d inv = m.cast<double>().inverse();
   for (auto& c : s.contacts.cell) {
     const Eigen::Vector3d v = inv * c.cast<double>();
-    c = Eigen::Vector3i(static_cast<int>(std::lround(v[0])), static_cast<int>(std::lround(v[1])),
-                        static_cast<int>(std::lround(v[2])));
+    c = to_cell_dist(Eigen::Vector3i(static_cast<int>(std::lround(v[0])),
+                                     static_cast<int>(std::lround(v[1])),
+                                     static_cast<int>(std::lround(v[2]))));
   }
   nl.invalidate();
   return true;

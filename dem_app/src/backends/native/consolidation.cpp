@@ -27,8 +27,9 @@ long consolidate(RveState& s, NeighbourList& nl, const Eigen::Vector3d& goal,
       // The strain rate that would close the gap in kRelaxSteps steps at the network's
       // stiffness bound (an upper bound of its response: the approach is slower than that,
       // and stable), at most max_strain_rate; without contacts, proportional to the gap.
-      const Eigen::Matrix3d sigma = love_weber_stress(s);
-      const double m = stiffness_bound(s);
+      const StressStiffness ss = stress_and_stiffness(s, true);
+      const Eigen::Matrix3d& sigma = ss.stress;
+      const double m = ss.stiffness;
       Eigen::Matrix3d l = Eigen::Matrix3d::Zero();
       for (int i = 0; i < 3; ++i) {
         // Too little compression (sigma above goal): shorten the cell.

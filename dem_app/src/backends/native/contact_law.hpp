@@ -16,12 +16,19 @@ struct FrictPhys {
 };
 
 // Ip2_FrictMat_FrictMat_FrictPhys: harmonic means of r_i E_i (normal) and r_i E_i poisson_i
-// (shear; FrictMat.poisson is ks/kn), friction angle the smaller of the two.
-inline FrictPhys frict_phys(double e1, double r1, double p1, double phi1, double e2, double r2,
-                            double p2, double phi2) {
+// (shear; FrictMat.poisson is ks/kn); tan_phi is left to the caller.
+inline FrictPhys frict_stiffness(double e1, double r1, double p1, double e2, double r2, double p2) {
   FrictPhys f;
   f.kn = 2 * e1 * r1 * e2 * r2 / (e1 * r1 + e2 * r2);
   f.ks = 2 * e1 * r1 * p1 * e2 * r2 * p2 / (e1 * r1 * p1 + e2 * r2 * p2);
+  f.tan_phi = 0;
+  return f;
+}
+
+// Ip2_FrictMat_FrictMat_FrictPhys with the friction angle the smaller of the two.
+inline FrictPhys frict_phys(double e1, double r1, double p1, double phi1, double e2, double r2,
+                            double p2, double phi2) {
+  FrictPhys f = frict_stiffness(e1, r1, p1, e2, r2, p2);
   f.tan_phi = std::tan(std::min(phi1, phi2));
   return f;
 }
@@ -45,7 +52,8 @@ inline ScGeom sc_geom(const Eigen::Vector3d& x1, const Eigen::Vector3d& x2, doub
   ScGeom g;
   Eigen::Vector3d n = x2 - x1;
   const double dist = n.norm();
-  n /= dist;
+  const double inv_dist = 1 / dist;  // one division (YADE: n /= dist)
+  n *= inv_dist;
   g.penetration = r1 + r2 - dist;
   if (!is_new) {
     g.orthonormal_axis = prev_normal.cross(n);
@@ -56,10 +64,11 @@ inline ScGeom sc_geom(const Eigen::Vector3d& x1, const Eigen::Vector3d& x2, doub
     g.twist_axis.setZero();
   }
   g.normal = n;
-  // ScGeom::getIncidentVel with avoidGranularRatcheting (McNamara's alpha).
-  const double alpha = (r1 + r2) / (r1 + r2 - g.penetration);
-  Eigen::Vector3d rel =
-      (v2 - v1) * alpha + w2.cross(-r2 * n) - w1.cross(r1 * n) + alpha * shift_vel;
+  // ScGeom::getIncidentVel with avoidGranularRatcheting (McNamara's alpha,
+  // (r1 + r2) / (r1 + r2 - penetration) = (r1 + r2) / dist to rounding).
+  const double alpha = (r1 + r2) * inv_dist;
+  // (v2 - v1) alpha + w2 x (-r2 n) - w1 x (r1 n) + alpha shift_vel, factored (to rounding).
+  Eigen::Vector3d rel = (v2 - v1 + shift_vel) * alpha - (r1 * w1 + r2 * w2).cross(n);
   rel -= n.dot(rel) * n;
   g.shear_inc = rel * dt;
   return g;

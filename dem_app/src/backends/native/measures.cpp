@@ -5,38 +5,48 @@
 
 namespace mpmdem::dem::native {
 
-Eigen::Matrix3d love_weber_stress(const RveState& s) {
+StressStiffness stress_and_stiffness(const RveState& s, bool stiffness) {
   Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
-  const auto& c = s.contacts;
-  for (std::size_t k = 0; k < c.size(); ++k) {
-    const Vec3 branch = s.spheres.pos[c.id1[k]] - s.spheres.pos[c.id2[k]] - s.cell.shift(c.cell[k]);
-    sum += (c.normal_force(k) + c.shear_force[k]) * branch.transpose();
-  }
-  return sum / s.cell.volume();
-}
-
-double stiffness_bound(const RveState& s) {
-  const auto& c = s.contacts;
   Vec3 cii = Vec3::Zero(), si = Vec3::Zero();
+  const auto& c = s.contacts;
+  const auto& pos = s.spheres.pos;
   for (std::size_t k = 0; k < c.size(); ++k) {
-    const Vec3 l = s.spheres.pos[c.id2[k]] + s.cell.shift(c.cell[k]) - s.spheres.pos[c.id1[k]];
+    // Branch x1 - x2 - H c (and l = x2 + H c - x1 for the bound): most contacts lie inside
+    // the cell, where the zero shift changes no bit.
+    const bool image = c.cell[k] != CellDist::Zero();
+    const Vec3 shift = image ? s.cell.shift(c.cell[k]) : Vec3::Zero();
+    const Vec3 x1 = pos[c.id1[k]], x2 = pos[c.id2[k]];
+    const Vec3 branch = image ? Vec3(x1 - x2 - shift) : Vec3(x1 - x2);
+    const FrictPhys phys = contact_stiffness(s, k);
+    const Vec3 fn = phys.kn * std::max(c.penetration[k], 0.0) * c.normal[k];
+    sum += (fn + c.shear_force[k]) * branch.transpose();
+    if (!stiffness) continue;
+    const Vec3 l = image ? Vec3(x2 + shift - x1) : Vec3(-branch);
     const double l2 = l.squaredNorm();
     const Vec3& n = c.normal[k];
-    const double fs = c.shear_force[k].norm();
-    const Vec3 t = fs > 0 ? Vec3(c.shear_force[k] / fs) : Vec3::Zero();
+    const double fs2 = c.shear_force[k].squaredNorm();
+    const double inv_fs2 = fs2 > 0 ? 1 / fs2 : 0.0;  // t_i^2 = fs_i^2 / |fs|^2
     for (int i = 0; i < 3; ++i) {
       const double ni2 = n[i] * n[i];
-      cii[i] += l2 * ni2 * (c.kn[k] * ni2 + c.ks[k] * t[i] * t[i]);
-      si[i] += c.kn[k] * l2 * ni2;
+      const double ti2 = c.shear_force[k][i] * c.shear_force[k][i] * inv_fs2;
+      cii[i] += l2 * ni2 * (phys.kn * ni2 + phys.ks * ti2);
+      si[i] += phys.kn * l2 * ni2;
     }
   }
+  const double volume = s.cell.volume();
+  StressStiffness out{sum / volume, 0.0};
+  if (!stiffness) return out;
   const double a = s.material.ks_kn;
-  double best = 0;
   for (int i = 0; i < 3; ++i) {
     const double b = a <= 1 ? (1 - a) * cii[i] + a * si[i] : cii[i] + a * si[i];
-    best = std::max(best, b);
+    out.stiffness = std::max(out.stiffness, b);
   }
-  return best / s.cell.volume();
+  out.stiffness /= volume;
+  return out;
+}
+
+Eigen::Matrix3d love_weber_stress(const RveState& s) {
+  return stress_and_stiffness(s, false).stress;
 }
 
 double kinetic_energy(const RveState& s) {
@@ -54,8 +64,9 @@ double elastic_energy(const RveState& s) {
   const auto& c = s.contacts;
   double e = 0;
   for (std::size_t k = 0; k < c.size(); ++k) {
+    const FrictPhys phys = contact_stiffness(s, k);
     e += 0.5 *
-         (c.normal_force(k).squaredNorm() / c.kn[k] + c.shear_force[k].squaredNorm() / c.ks[k]);
+         (normal_force(s, k).squaredNorm() / phys.kn + c.shear_force[k].squaredNorm() / phys.ks);
   }
   return e;
 }
@@ -89,7 +100,7 @@ double unbalanced_force(const RveState& s) {
   double body = 0, contact = 0;
   for (const auto& f : sp.force) body += f.norm();
   for (std::size_t k = 0; k < c.size(); ++k) {
-    contact += (c.normal_force(k) + c.shear_force[k]).norm();
+    contact += (normal_force(s, k) + c.shear_force[k]).norm();
   }
   return (body / static_cast<double>(sp.size())) / (contact / static_cast<double>(c.size()));
 }

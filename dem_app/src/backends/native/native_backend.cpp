@@ -148,13 +148,14 @@ void NativeBackend::fill_reply(std::size_t k, std::int32_t status, std::int32_t 
     status = as_int(protocol::RveStatus::kNoContacts);
   }
   if (status == as_int(protocol::RveStatus::kOk)) {
-    const Eigen::Matrix3d sig = native::love_weber_stress(s);
+    const native::StressStiffness ss = native::stress_and_stiffness(s, p_.stiffness);
+    const Eigen::Matrix3d& sig = ss.stress;
     const RowMajor3 sym = 0.5 * (sig + sig.transpose());
     if (!sym.allFinite()) {
       status = as_int(protocol::RveStatus::kNonFinite);
     } else {
       Eigen::Map<RowMajor3>(reply.stress) = sym;
-      reply.stiffness = p_.stiffness ? native::stiffness_bound(s) : 0.0;
+      reply.stiffness = ss.stiffness;
     }
   }
   const std::uint32_t o = ctx_.outputs;
@@ -205,7 +206,9 @@ void NativeBackend::step(const protocol::ControlHeader& header, const protocol::
       if (!(req[k].flags & (protocol::kFlagQueryOnly | protocol::kFlagSkip))) {
         ns = n_substeps(req[k].dF);
         burst(k, req[k].dF, ns);
-        rves_[k].unbalanced = native::unbalanced_force(rves_[k].state);
+        if (ctx_.outputs & protocol::kOutputUnbalancedForce) {  // only when replied
+          rves_[k].unbalanced = native::unbalanced_force(rves_[k].state);
+        }
         rves_[k].state.spheres.release_forces();
       }
       const native::RveState& s = rves_[k].state;

@@ -4,19 +4,21 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <stdexcept>
 
 namespace mpmdem::dem::native {
 
 void NeighbourList::ensure(const RveState& s) {
-  if (valid_ && x_ref_.size() == s.spheres.size() && contact_pair_.size() == s.contacts.size()) {
+  if (valid_ && x_ref_.size() == s.spheres.size() && n_contacts_ == s.contacts.size()) {
     double max_d2 = 0;
     for (std::size_t i = 0; i < x_ref_.size(); ++i) {
-      max_d2 = std::max(max_d2, (s.spheres.pos[i] - x_ref_[i]).squaredNorm());
+      max_d2 = std::max(max_d2, (s.spheres.pos[i] - x_ref_[i].cast<double>()).squaredNorm());
     }
+    // |x - x_ref| <= |x - (single) x_ref| + its rounding at the build.
     const double strain = ((s.cell.hsize - h_ref_) * h_ref_inv_).norm();
-    if (2 * std::sqrt(max_d2) + strain * (extent_ + max_cutoff_) < skin_) return;
+    if (2 * (std::sqrt(max_d2) + ref_rounding_) + strain * (extent_ + max_cutoff_) < skin_) {
+      return;
+    }
   }
   rebuild(s);
 }
@@ -32,7 +34,15 @@ void NeighbourList::rebuild(const RveState& s) {
   max_cutoff_ = 2 * r_max + skin_;
   h_ref_ = s.cell.hsize;
   h_ref_inv_ = h_ref_.inverse();
-  x_ref_ = sp.pos;
+  if (n >= kInContact) throw std::runtime_error("native backend: too many spheres in one RVE");
+  x_ref_.resize(n);
+  x_ref_.shrink_to_fit();
+  ref_rounding_ = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    x_ref_[i] = sp.pos[i].cast<float>();
+    ref_rounding_ = std::max(ref_rounding_, (sp.pos[i] - x_ref_[i].cast<double>()).norm());
+  }
+  ref_rounding_ *= 1 + 1e-6;  // the rounding of the norm itself
   Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
   for (const auto& x : sp.pos) {
     lo = lo.cwiseMin(x);
@@ -79,8 +89,7 @@ void NeighbourList::rebuild(const RveState& s) {
   };
   row_.assign(n + 1, 0);
   pair_j_.clear();
-  pair_.clear();
-  constexpr int kMax = std::numeric_limits<std::int16_t>::max();
+  pair_cell_.clear();
   for (std::uint32_t i = 0; i < n; ++i) {
     row_[i] = static_cast<std::uint32_t>(pair_j_.size());
     for (std::uint32_t j = i + 1; j < n; ++j) {
@@ -94,17 +103,8 @@ void NeighbourList::rebuild(const RveState& s) {
       const double cut = sp.radius[i] + sp.radius[j] + skin_;
       for (int k = 0; k < 27; ++k) {
         if ((d0 + offsets[k]).squaredNorm() < cut * cut) {
-          const Eigen::Vector3i c = c0 + steps[k];
-          if (c.cwiseAbs().maxCoeff() >= kMax) {
-            throw std::runtime_error(
-                "native backend: spheres " + std::to_string(i) + " and " + std::to_string(j) +
-                " are more than 32767 cells apart (unwrapped positions): not supported");
-          }
           pair_j_.push_back(j);
-          pair_.push_back(
-              PairImage{{static_cast<std::int16_t>(c[0]), static_cast<std::int16_t>(c[1]),
-                         static_cast<std::int16_t>(c[2])},
-                        0});
+          pair_cell_.push_back(to_cell_dist(c0 + steps[k]));
         }
       }
     }
@@ -112,48 +112,41 @@ void NeighbourList::rebuild(const RveState& s) {
   row_[n] = static_cast<std::uint32_t>(pair_j_.size());
   // Exact size: the pair count changes only here (rebuilds are rare).
   pair_j_.shrink_to_fit();
-  pair_.shrink_to_fit();
-  // Map the existing contacts onto the new pairs.
-  contact_pair_.assign(s.contacts.size(), -1);
-  contact_pair_.shrink_to_fit();
-  for (std::size_t k = 0; k < s.contacts.size(); ++k) {
+  pair_cell_.shrink_to_fit();
+  // Flag the pairs of the existing contacts (an image the list does not hold is never
+  // re-created).
+  n_contacts_ = s.contacts.size();
+  for (std::size_t k = 0; k < n_contacts_; ++k) {
     const std::int64_t p = find(s.contacts.id1[k], s.contacts.id2[k], s.contacts.cell[k]);
-    if (p < 0) continue;  // an image the list does not hold: never re-created
-    contact_pair_[k] = static_cast<std::int32_t>(p);
-    pair_[p].in_contact = 1;
+    if (p >= 0) pair_j_[p] |= kInContact;
   }
 }
 
-std::int64_t NeighbourList::find(std::uint32_t a, std::uint32_t b, const Eigen::Vector3i& c) const {
-  const Eigen::Vector3i cc = a <= b ? c : Eigen::Vector3i(-c);
+std::int64_t NeighbourList::find(std::uint32_t a, std::uint32_t b, const CellDist& c) const {
+  const CellDist cc = a <= b ? c : CellDist(-c);
   const std::uint32_t i = std::min(a, b), j = std::max(a, b);
   if (i + 1 >= row_.size()) return -1;
   for (std::size_t p = row_[i]; p < row_[i + 1]; ++p) {
-    if (pair_j_[p] == j && pair_[p].c[0] == cc[0] && pair_[p].c[1] == cc[1] &&
-        pair_[p].c[2] == cc[2]) {
-      return static_cast<std::int64_t>(p);
-    }
+    if (pair_j(p) == j && pair_cell_[p] == cc) return static_cast<std::int64_t>(p);
   }
   return -1;
 }
 
 std::size_t NeighbourList::heap_bytes() const {
-  return x_ref_.capacity() * sizeof(Vec3) +
+  return x_ref_.capacity() * sizeof(Eigen::Vector3f) +
          (row_.capacity() + pair_j_.capacity()) * sizeof(std::uint32_t) +
-         pair_.capacity() * sizeof(PairImage) + contact_pair_.capacity() * sizeof(std::int32_t);
+         pair_cell_.capacity() * sizeof(CellDist);
 }
 
-void NeighbourList::contact_added(std::size_t pair, std::size_t contact) {
-  if (contact_pair_.size() <= contact) contact_pair_.resize(contact + 1, -1);
-  contact_pair_[contact] = static_cast<std::int32_t>(pair);
-  pair_[pair].in_contact = 1;
+void NeighbourList::contact_added(std::size_t p) {
+  pair_j_[p] |= kInContact;
+  ++n_contacts_;
 }
 
-void NeighbourList::contact_removed(std::size_t contact, std::size_t last) {
-  const std::int32_t p = contact_pair_[contact];
-  if (p >= 0) pair_[p].in_contact = 0;
-  if (contact != last) contact_pair_[contact] = contact_pair_[last];
-  contact_pair_.pop_back();
+void NeighbourList::contact_removed(const Contacts& c, std::size_t k) {
+  const std::int64_t p = find(c.id1[k], c.id2[k], c.cell[k]);
+  if (p >= 0) pair_j_[p] &= ~kInContact;
+  --n_contacts_;
 }
 
 }  // namespace mpmdem::dem::native

@@ -6,9 +6,10 @@
 // (extent: the diagonal of the spheres' bounding box at the build). Under the small
 // homogeneous increments of a coupling step this is rare. The list also maps pairs to the
 // RVE's real contacts, so that only pairs without a contact are tested for a new one.
-// Storage: compressed rows (pairs of sphere i are contiguous, i < j), 12 bytes per pair
-// (j, three 16-bit image offsets, a contact flag), 4 per contact, 24 per sphere (x_ref),
-// sized exactly at each build.
+// Storage: compressed rows (pairs of sphere i are contiguous, i < j), 10 bytes per pair
+// (j with the contact flag in its top bit, three 16-bit image offsets), 12 per sphere (x_ref
+// in single precision, its rounding added to the displacement bound), sized exactly at
+// each build; nothing per contact (a removed contact's pair is found in its row).
 #pragma once
 
 #include <Eigen/Core>
@@ -32,40 +33,33 @@ class NeighbourList {
   // Pairs of sphere i (< j) are the rows [row_begin(i), row_begin(i + 1)) (compressed rows).
   std::size_t n_pairs() const { return pair_j_.size(); }
   std::size_t row_begin(std::size_t i) const { return row_[i]; }
-  std::uint32_t pair_j(std::size_t p) const { return pair_j_[p]; }
-  Eigen::Vector3i pair_cell(std::size_t p) const {
-    return Eigen::Vector3i(pair_[p].c[0], pair_[p].c[1], pair_[p].c[2]);
-  }
-  bool pair_cell_zero(std::size_t p) const {
-    return (pair_[p].c[0] | pair_[p].c[1] | pair_[p].c[2]) == 0;
-  }
-  bool pair_in_contact(std::size_t p) const { return pair_[p].in_contact != 0; }
-  // Bookkeeping of the contact <-> pair map; call alongside Contacts::add / swap_remove.
-  void contact_added(std::size_t pair, std::size_t contact);
-  void contact_removed(std::size_t contact, std::size_t last);
+  std::uint32_t pair_j(std::size_t p) const { return pair_j_[p] & ~kInContact; }
+  const CellDist& pair_cell(std::size_t p) const { return pair_cell_[p]; }
+  bool pair_cell_zero(std::size_t p) const { return pair_cell_[p] == CellDist::Zero(); }
+  bool pair_in_contact(std::size_t p) const { return (pair_j_[p] & kInContact) != 0; }
+  // Bookkeeping of the contacts' pairs: contact_added after Contacts::add of pair p's
+  // contact, contact_removed before Contacts::swap_remove of contact k.
+  void contact_added(std::size_t p);
+  void contact_removed(const Contacts& c, std::size_t k);
 
  private:
+  static constexpr std::uint32_t kInContact = 0x80000000u;  // flag bit of pair_j_
   void rebuild(const RveState& s);
   // Index of the pair (a, b, c) or (b, a, -c); -1 if the list does not hold it.
-  std::int64_t find(std::uint32_t a, std::uint32_t b, const Eigen::Vector3i& c) const;
-
-  // Image offset of a pair (cellDist; |c| < 2^15 is checked at the build) and its flag.
-  struct PairImage {
-    std::int16_t c[3];
-    std::uint8_t in_contact;
-  };
+  std::int64_t find(std::uint32_t a, std::uint32_t b, const CellDist& c) const;
 
   double skin_factor_;
   bool valid_ = false;
   std::int64_t rebuilds_ = 0;
   double skin_ = 0, extent_ = 0, max_cutoff_ = 0;
+  double ref_rounding_ = 0;     // max_i |x_i - x_ref_i| at the build (single precision)
+  std::size_t n_contacts_ = 0;  // contacts of the RVE as the list last saw them
   Eigen::Matrix3d h_ref_ = Eigen::Matrix3d::Identity();
   Eigen::Matrix3d h_ref_inv_ = Eigen::Matrix3d::Identity();
-  std::vector<Vec3> x_ref_;
+  std::vector<Eigen::Vector3f> x_ref_;
   std::vector<std::uint32_t> row_;     // n + 1 row starts
-  std::vector<std::uint32_t> pair_j_;  // second sphere of each pair
-  std::vector<PairImage> pair_;
-  std::vector<std::int32_t> contact_pair_;  // pair index of each contact, -1: none
+  std::vector<std::uint32_t> pair_j_;  // second sphere of each pair | kInContact
+  std::vector<CellDist> pair_cell_;    // image offset of each pair
 };
 
 }  // namespace mpmdem::dem::native

@@ -125,11 +125,17 @@ RveState read_packing(const std::filesystem::path& file) {
         static_cast<std::size_t>(ids[1]) >= n) {
       r.fail("contact between unknown spheres");
     }
-    const std::size_t c =
-        s.contacts.add(static_cast<std::uint32_t>(ids[0]), static_cast<std::uint32_t>(ids[1]),
-                       Eigen::Vector3i(static_cast<int>(ids[2]), static_cast<int>(ids[3]),
-                                       static_cast<int>(ids[4])),
-                       v[0], v[1]);
+    const std::size_t c = s.contacts.add(
+        static_cast<std::uint32_t>(ids[0]), static_cast<std::uint32_t>(ids[1]),
+        to_cell_dist(Eigen::Vector3i(static_cast<int>(ids[2]), static_cast<int>(ids[3]),
+                                     static_cast<int>(ids[4]))));
+    // kn and ks follow from the radii (contact_stiffness); YADE's saved values agree to an
+    // ulp or two (its own rounding of the same formula).
+    const FrictPhys phys = contact_stiffness(s, c);
+    if (!(std::abs(phys.kn - v[0]) <= 1e-12 * phys.kn &&
+          std::abs(phys.ks - v[1]) <= 1e-12 * phys.ks)) {
+      r.fail("contact kn, ks differ from the radii and the material's");
+    }
     // One friction angle per RVE (FrictPhys: tan of the smaller of the two, both the same).
     if (v[2] != std::tan(s.material.friction_angle)) {
       r.fail("contact friction differs from the material's (one material per RVE)");
@@ -176,11 +182,11 @@ void write_packing(const RveState& s, const std::filesystem::path& file) {
   out << "contacts " << c.size() << '\n';
   for (std::size_t k = 0; k < c.size(); ++k) {
     out << c.id1[k] << ' ' << c.id2[k] << ' ' << c.cell[k][0] << ' ' << c.cell[k][1] << ' '
-        << c.cell[k][2] << ' ' << c.kn[k] << ' ' << c.ks[k] << ' '
-        << std::tan(s.material.friction_angle);
+        << c.cell[k][2] << ' ' << contact_stiffness(s, k).kn << ' ' << contact_stiffness(s, k).ks
+        << ' ' << std::tan(s.material.friction_angle);
     vec(c.normal[k]);
     vec(c.shear_force[k]);
-    vec(c.normal_force(k));
+    vec(normal_force(s, k));
     out << ' ' << c.penetration[k] << '\n';
   }
   if (!out) throw std::runtime_error("error while writing native packing " + file.string());

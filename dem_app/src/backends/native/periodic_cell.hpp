@@ -48,9 +48,14 @@ struct PeriodicCell {
     return vel_grad_changed ? next_vel_grad : vel_grad;
   }
   double volume() const { return hsize.determinant(); }
-  Eigen::Vector3d shift(const Eigen::Vector3i& c) const { return hsize * c.cast<double>(); }
-  Eigen::Vector3d shift_vel(const Eigen::Vector3i& c) const {
-    return vgrad_times_prev_h * c.cast<double>();
+  // Offset and extra velocity of the periodic image c (any integer type).
+  template <typename Int>
+  Eigen::Vector3d shift(const Eigen::Matrix<Int, 3, 1>& c) const {
+    return hsize * c.template cast<double>();
+  }
+  template <typename Int>
+  Eigen::Vector3d shift_vel(const Eigen::Matrix<Int, 3, 1>& c) const {
+    return vgrad_times_prev_h * c.template cast<double>();
   }
   // Distance between the two faces spanned by the other lattice vectors, for each vector.
   Eigen::Vector3d heights() const;

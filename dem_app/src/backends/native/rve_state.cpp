@@ -2,8 +2,21 @@
 #include "backends/native/rve_state.hpp"
 
 #include <algorithm>
+#include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace mpmdem::dem::native {
+
+CellDist to_cell_dist(const Eigen::Vector3i& c) {
+  constexpr int kMax = std::numeric_limits<std::int16_t>::max();
+  if (c.cwiseAbs().maxCoeff() >= kMax) {
+    throw std::runtime_error("native backend: image offset (" + std::to_string(c[0]) + ", " +
+                             std::to_string(c[1]) + ", " + std::to_string(c[2]) +
+                             ") of 32767 cells or more (unwrapped positions): not supported");
+  }
+  return c.cast<std::int16_t>();
+}
 
 void Spheres::resize(std::size_t n) {
   radius.resize(n);
@@ -14,8 +27,20 @@ void Spheres::resize(std::size_t n) {
   ang_vel.resize(n, Vec3::Zero());
   ori.resize(n, Quat::Identity());
   ref_ori.resize(n, Quat::Identity());
-  force.resize(n, Vec3::Zero());
-  torque.resize(n, Vec3::Zero());
+  release_forces();
+}
+
+void Spheres::prepare_scratch() {
+  const std::size_t n = size();
+  if (force.size() == n && inv_mass.size() == n) return;
+  force.resize(n);
+  torque.resize(n);
+  inv_mass.resize(n);
+  inv_inertia.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    inv_mass[i] = 1 / mass[i];
+    inv_inertia[i] = 1 / inertia[i];
+  }
 }
 
 void Spheres::push_back(double r, double m, double inertia_value, const Vec3& x) {
@@ -44,23 +69,24 @@ void fit_to(std::vector<T>& v, std::size_t n) {
 
 std::size_t Spheres::heap_bytes() const {
   return cap(radius) + cap(mass) + cap(inertia) + cap(pos) + cap(vel) + cap(ang_vel) + cap(ori) +
-         cap(ref_ori) + cap(force) + cap(torque);
+         cap(ref_ori) + cap(force) + cap(torque) + cap(inv_mass) + cap(inv_inertia);
 }
 
 void Spheres::release_forces() {
   std::vector<Vec3>().swap(force);
   std::vector<Vec3>().swap(torque);
+  std::vector<double>().swap(inv_mass);
+  std::vector<double>().swap(inv_inertia);
 }
 
 std::size_t Contacts::heap_bytes() const {
-  return cap(id1) + cap(id2) + cap(cell) + cap(normal) + cap(shear_force) + cap(kn) + cap(ks) +
-         cap(penetration);
+  return cap(id1) + cap(id2) + cap(cell) + cap(normal) + cap(shear_force) + cap(penetration);
 }
 
 void Contacts::fit() {
   const std::size_t n = std::max<std::size_t>(16, size() + size() / 8);
   fit_to(id1, n), fit_to(id2, n), fit_to(cell, n), fit_to(normal, n), fit_to(shear_force, n);
-  fit_to(kn, n), fit_to(ks, n), fit_to(penetration, n);
+  fit_to(penetration, n);
 }
 
 void Contacts::clear() {
@@ -69,21 +95,16 @@ void Contacts::clear() {
   cell.clear();
   normal.clear();
   shear_force.clear();
-  kn.clear();
-  ks.clear();
   penetration.clear();
 }
 
-std::size_t Contacts::add(std::uint32_t a, std::uint32_t b, const Eigen::Vector3i& c,
-                          double kn_value, double ks_value) {
+std::size_t Contacts::add(std::uint32_t a, std::uint32_t b, const CellDist& c) {
   if (id1.size() == id1.capacity()) fit();
   id1.push_back(a);
   id2.push_back(b);
   cell.push_back(c);
   normal.push_back(Vec3::Zero());
   shear_force.push_back(Vec3::Zero());
-  kn.push_back(kn_value);
-  ks.push_back(ks_value);
   penetration.push_back(0.0);
   return id1.size() - 1;
 }
@@ -96,8 +117,6 @@ void Contacts::swap_remove(std::size_t k) {
     cell[k] = cell[last];
     normal[k] = normal[last];
     shear_force[k] = shear_force[last];
-    kn[k] = kn[last];
-    ks[k] = ks[last];
     penetration[k] = penetration[last];
   }
   id1.pop_back();
@@ -105,8 +124,6 @@ void Contacts::swap_remove(std::size_t k) {
   cell.pop_back();
   normal.pop_back();
   shear_force.pop_back();
-  kn.pop_back();
-  ks.pop_back();
   penetration.pop_back();
 }
 

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "backends/native/contact_law.hpp"
 #include "backends/native/periodic_cell.hpp"
 
 namespace mpmdem::dem::native {
@@ -28,34 +29,38 @@ struct Spheres {
   std::vector<double> radius, mass, inertia;  // per sphere [m], [kg], [kg m2]
   std::vector<Vec3> pos, vel, ang_vel;        // unwrapped positions, as YADE keeps them
   std::vector<Quat> ori, ref_ori;             // orientation, and the one rotation counts from
-  // Accumulated in a DEM step. Scratch: the backend releases them after each coupling step
-  // (release_forces; compute_forces sizes them again), so a resident RVE does not keep them.
+  // Scratch of the DEM steps: force and torque (accumulated in a step), 1 / mass and
+  // 1 / inertia (for Newton). The backend releases them after each coupling step
+  // (release_forces; resize does too), compute_forces sizes them again (prepare_scratch), so
+  // a resident RVE does not keep them.
   std::vector<Vec3> force, torque;
+  std::vector<double> inv_mass, inv_inertia;
   std::size_t size() const { return radius.size(); }
   void resize(std::size_t n);
+  void prepare_scratch();
   void push_back(double r, double m, double inertia_value, const Vec3& x);
   std::size_t heap_bytes() const;  // allocated capacity of all arrays
   void release_forces();
 };
 
+// Image offset of a contact or Verlet pair (Interaction::cellDist), 6 bytes: |c| < 2^15
+// (to_cell_dist checks it).
+using CellDist = Eigen::Matrix<std::int16_t, 3, 1>;
+CellDist to_cell_dist(const Eigen::Vector3i& c);
+
 // Real contacts (Interaction with ScGeom + FrictPhys): body 2's image is pos2 + hsize * cell.
+// kn and ks are not stored: they follow from the two radii and the RVE's one material
+// (contact_stiffness); nor is the normal force (normal_force).
 struct Contacts {
   std::vector<std::uint32_t> id1, id2;
-  std::vector<Eigen::Vector3i> cell;  // Interaction::cellDist
-  std::vector<Vec3> normal;           // ScGeom::normal (unit, 1 -> 2)
-  std::vector<Vec3> shear_force;      // FrictPhys::shearForce (rotated with the contact)
-  std::vector<double> kn, ks;
+  std::vector<CellDist> cell;       // Interaction::cellDist
+  std::vector<Vec3> normal;         // ScGeom::normal (unit, 1 -> 2)
+  std::vector<Vec3> shear_force;    // FrictPhys::shearForce (rotated with the contact)
   std::vector<double> penetration;  // ScGeom::penetrationDepth (last step)
   std::size_t size() const { return id1.size(); }
-  // FrictPhys::normalForce of the last step, recomputed exactly as CundallStrack computed it
-  // (not stored: 24 bytes per contact). The friction coefficient is the material's.
-  Vec3 normal_force(std::size_t k) const {
-    return kn[k] * std::max(penetration[k], 0.0) * normal[k];
-  }
   void clear();
   // Appends a contact with zero forces; returns its index.
-  std::size_t add(std::uint32_t a, std::uint32_t b, const Eigen::Vector3i& c, double kn_value,
-                  double ks_value);
+  std::size_t add(std::uint32_t a, std::uint32_t b, const CellDist& c);
   // Removes contact k by moving the last one into its place.
   void swap_remove(std::size_t k);
   std::size_t heap_bytes() const;  // allocated capacity of all arrays
@@ -71,5 +76,25 @@ struct RveState {
   double dt = 0;  // DEM time step [s] (YADE: 0.5 PWaveTimeStep, from the packing)
   std::int64_t iter = 0;
 };
+
+// kn and ks of contact k (Ip2_FrictMat_FrictMat_FrictPhys from the two radii and the RVE's
+// one material, the same bits at every call; tan_phi 0). With one material ks = (ks/kn) kn
+// (YADE's second harmonic mean, to rounding, without its division).
+inline FrictPhys contact_stiffness(const RveState& s, std::size_t k) {
+  const Material& m = s.material;
+  const double e1 = m.young * s.spheres.radius[s.contacts.id1[k]];
+  const double e2 = m.young * s.spheres.radius[s.contacts.id2[k]];
+  FrictPhys f;
+  f.kn = 2 * e1 * e2 / (e1 + e2);
+  f.ks = m.ks_kn * f.kn;
+  f.tan_phi = 0;
+  return f;
+}
+
+// FrictPhys::normalForce of the last step, recomputed exactly as CundallStrack computed it.
+inline Vec3 normal_force(const RveState& s, std::size_t k) {
+  return contact_stiffness(s, k).kn * std::max(s.contacts.penetration[k], 0.0) *
+         s.contacts.normal[k];
+}
 
 }  // namespace mpmdem::dem::native

@@ -12,6 +12,20 @@ import time
 import yaml
 
 
+# The solver keys that set the PIC/FLIP blend's share; a scene sets at most one of them.
+BLEND_KEYS = ("flip", "flip_time_scale", "flip_velocity_scale")
+
+
+def set_solver(cfg, keys):
+    """Applies the solver keys `keys` to the scene `cfg`. When they set a blend of their own
+    (one of BLEND_KEYS) or a transfer other than pic_flip, the scene's blend key is removed
+    first, so that the scene's and the study's blend keys never meet."""
+    if any(k in keys for k in BLEND_KEYS) or keys.get("transfer", "pic_flip") != "pic_flip":
+        for k in BLEND_KEYS:
+            cfg["solver"].pop(k, None)
+    cfg["solver"].update(keys)
+
+
 def run_column(app, cfg, out, name, study):
     """Writes cfg to OUT/NAME.yaml, runs it into OUT/NAME and returns summary.json as a dict
     with two more keys: Eerr_over_released (the energy budget's residual E_err, the energy

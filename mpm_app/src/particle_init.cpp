@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <sstream>
+#include <vector>
 
 #include "errors.hpp"
 #include "grid.hpp"
@@ -26,6 +27,71 @@ Vec3 initial_velocity(const RegionParams& r, const Vec3& x) {
   return v;
 }
 
+// Gauss-Legendre nodes and weights of order n on [-1, 1] (Newton on P_n from the Chebyshev
+// guess; converges to round-off in a few iterations for n <= 8).
+void gauss_legendre(int n, std::vector<double>& xi, std::vector<double>& wi) {
+  xi.assign(static_cast<std::size_t>(n), 0.0);
+  wi.assign(static_cast<std::size_t>(n), 0.0);
+  for (int i = 0; i < n; ++i) {
+    double x = std::cos(M_PI * (i + 0.75) / (n + 0.5));
+    double dp = 1.0;
+    for (int it = 0; it < 100; ++it) {
+      double p0 = 1.0, p1 = x;  // P_0, P_1, then up to P_n by the three-term recurrence
+      for (int k = 2; k <= n; ++k) {
+        const double p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
+        p0 = p1;
+        p1 = p2;
+      }
+      const double pn = n == 0 ? 1.0 : p1, pm = n == 1 ? 1.0 : p0;
+      dp = n * (x * pn - pm) / (x * x - 1.0);
+      const double dx = pn / dp;
+      x -= dx;
+      if (std::abs(dx) < 1e-16) break;
+    }
+    xi[static_cast<std::size_t>(n - 1 - i)] = x;
+    wi[static_cast<std::size_t>(n - 1 - i)] = 2.0 / ((1.0 - x * x) * dp * dp);
+  }
+}
+
+// Candidate point coordinates along one axis and their length weights [m], in increasing
+// order. cells: the centres of the n sub-cells of every grid cell, weight h/n. gauss: n
+// Gauss-Legendre points in every knot span of the scene's shape functions cut by the region's
+// faces (knots: the nodes for trilinear shapes; the cell centres and the domain's ends for
+// quadratic B-splines, whose knots are clamped at walls), weight = span length x Gauss weight.
+struct AxisPoint {
+  double x, w;
+};
+std::vector<AxisPoint> axis_points(const Scene& scene, const Grid& grid, const RegionParams& reg,
+                                   int d, int n) {
+  const double h = grid.h, o = grid.origin[d];
+  const int cells = grid.cells[static_cast<std::size_t>(d)];
+  std::vector<AxisPoint> out;
+  if (!reg.gauss_placement) {
+    const double s = h / n;
+    for (int i = 0; i < cells * n; ++i) out.push_back({o + s * (i + 0.5), s});
+    return out;
+  }
+  const double lo = std::max(0.0, (reg.min[d] - o) / h);
+  const double hi = std::min(static_cast<double>(cells), (reg.max[d] - o) / h);
+  std::vector<double> cut{lo, hi};
+  const double shift = scene.solver.shape == ShapeKind::kQuadraticBSpline ? 0.5 : 0.0;
+  for (int k = 0; k <= cells; ++k) {
+    const double t = k + shift;
+    if (t > lo && t < hi) cut.push_back(t);
+  }
+  std::sort(cut.begin(), cut.end());
+  std::vector<double> xi, wi;
+  gauss_legendre(n, xi, wi);
+  for (std::size_t c = 0; c + 1 < cut.size(); ++c) {
+    const double a = cut[c], b = cut[c + 1];
+    if (!(b - a > 1e-9)) continue;
+    for (std::size_t j = 0; j < xi.size(); ++j) {
+      out.push_back({o + h * (a + 0.5 * (b - a) * (1.0 + xi[j])), 0.5 * (b - a) * wi[j] * h});
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 Particles generate_particles(const Scene& scene) {
@@ -39,30 +105,24 @@ Particles generate_particles(const Scene& scene) {
       throw SceneError("regions[" + std::to_string(r) + "] '" + reg.name +
                        "': points per cell must be >= 1 along every axis");
     }
-    const Vec3 spacing(h / n[0], h / n[1], h / n[2]);
-    const double volume = spacing.prod();
-    const double mass = reg.density * volume;
-    // Candidate lattice range: the region's bounding box, clipped to the grid.
-    int lo[3], hi[3];
+    std::array<std::vector<AxisPoint>, 3> ax;
     for (int d = 0; d < 3; ++d) {
-      const double a = std::floor((reg.min[d] - grid.origin[d]) / spacing[d]) - 1.0;
-      const double b = std::ceil((reg.max[d] - grid.origin[d]) / spacing[d]) + 1.0;
-      lo[d] = static_cast<int>(std::max(0.0, std::min(a, 1e9)));
-      hi[d] = static_cast<int>(std::min(
-          static_cast<double>(grid.cells[d] * n[static_cast<std::size_t>(d)]), std::max(b, 0.0)));
+      ax[static_cast<std::size_t>(d)] =
+          axis_points(scene, grid, reg, d, n[static_cast<std::size_t>(d)]);
     }
     std::size_t count = 0;
-    for (int k = lo[2]; k < hi[2]; ++k) {
-      for (int j = lo[1]; j < hi[1]; ++j) {
-        for (int i = lo[0]; i < hi[0]; ++i) {
-          const Vec3 x = grid.origin + spacing.cwiseProduct(Vec3(i + 0.5, j + 0.5, k + 0.5));
+    for (const AxisPoint& pz : ax[2]) {
+      for (const AxisPoint& py : ax[1]) {
+        for (const AxisPoint& px : ax[0]) {
+          const Vec3 x(px.x, py.x, pz.x);
           if (!inside(reg, x)) continue;
           bool earlier = false;  // already taken by an earlier region
           for (std::size_t q = 0; q < r && !earlier; ++q) earlier = inside(scene.regions[q], x);
           if (earlier) continue;
+          const double volume = px.w * py.w * pz.w;
           p.id.push_back(static_cast<std::int64_t>(p.id.size()));
           p.region.push_back(static_cast<int>(r));
-          p.m.push_back(mass);
+          p.m.push_back(reg.density * volume);
           p.V.push_back(volume);
           p.V0.push_back(volume);
           p.x.push_back(x);
@@ -75,9 +135,10 @@ Particles generate_particles(const Scene& scene) {
     if (count == 0) {
       std::ostringstream msg;
       msg << "regions[" << r << "] '" << reg.name << "' (min [" << reg.min.transpose() << "], max ["
-          << reg.max.transpose()
-          << "]) contains no material point: points sit at the centres of the " << n[0] << "x"
-          << n[1] << "x" << n[2] << " sub-cells of each grid cell (cell_size " << h
+          << reg.max.transpose() << "]) contains no material point: points sit "
+          << (reg.gauss_placement ? "at the Gauss points of the knot spans"
+                                  : "at the centres of the sub-cells")
+          << ", " << n[0] << "x" << n[1] << "x" << n[2] << " per cell (cell_size " << h
           << " m, grid from [" << grid.origin.transpose() << "] to [" << grid.upper().transpose()
           << "]); enlarge the region, move it inside the grid, or raise points_per_cell";
       throw SceneError(msg.str());

@@ -9,12 +9,13 @@
 
 namespace mpmdem::mpm {
 
-// n = points_per_cell points per cell per direction, at the centres of the n^3 sub-cells of
-// every grid cell, kept where they fall inside a region box (min <= x < max; a point in
-// several regions belongs to the first). Volume (h/n)^3, mass = density * volume, velocity
-// from the region (uniform, plus the optional sine profile along its axis), F = dF = I.
-// Points are ordered region by region, then cell by cell (x fastest). id = index.
-// Throws SceneError when a region holds no point position.
+// n = points_per_cell points per cell per direction (placement cells: at the centres of the n^3
+// sub-cells of every grid cell, volume (h/n)^3; placement gauss: n Gauss-Legendre points per
+// direction in every knot span of the shape functions, volume = the product of the weights),
+// kept where they fall inside a region box (min <= x < max; a point in several regions
+// belongs to the first). Mass = density * volume, velocity from the region (uniform, plus the
+// optional sine profile along its axis), F = dF = I. Points are ordered region by region, then cell
+// by cell (x fastest). id = index. Throws SceneError when a region holds no point position.
 Particles generate_particles(const Scene& scene);
 
 // Initial Cauchy stress per point: zero, or geostatic for regions that ask for it:

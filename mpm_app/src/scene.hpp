@@ -35,6 +35,9 @@ struct RegionParams {
     const int n = points_xyz[static_cast<std::size_t>(axis)];
     return n > 0 ? n : points_per_cell;
   }
+  // Placement: false: the centres of the n^3 sub-cells of each cell (equal volumes); true: n
+  // Gauss-Legendre points per direction in every knot span of the shape functions.
+  bool gauss_placement = false;
   double density = 2000.0;       // [kg/m^3]
   Vec3 velocity = Vec3::Zero();  // initial velocity [m/s]
   // Optional first-mode velocity profile v(x) = amplitude * sin(pi/2 * (x_a - x0)/L)

@@ -121,6 +121,7 @@ std::vector<RegionParams> load_regions(const Config& cfg, const Domain& d) {
       p.sine_amplitude = r.number("sine_velocity.amplitude");
     }
     p.geostatic = r.string("initial_stress") == "geostatic";
+    p.gauss_placement = r.string("placement") == "gauss";
     p.k0 = r.number("k0");
     regions.push_back(p);
   }

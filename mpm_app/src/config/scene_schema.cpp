@@ -43,6 +43,14 @@ void add_region_keys(config::Schema& s) {
   s.add(key("regions[].points_per_cell_xyz", Type::kVec3, "-",
             "points per cell along x, y and z (integers 1-8); overrides points_per_cell, e.g. "
             "[2, 1, 2] for a plane-strain slice one cell wide"));
+  s.add(key("regions[].placement", Type::kEnum, "",
+            "where the points of a cell sit: cells (the centres of the n^3 sub-cells, equal "
+            "volumes) or gauss (n Gauss-Legendre points per direction in every knot span of "
+            "the shape functions, volumes = the Gauss weights: the point quadrature starts "
+            "exact for quadratic B-splines, also in the half spans next to a wall; "
+            "docs/transfers.md)")
+            .def("cells")
+            .one_of({"cells", "gauss"}));
   s.add(key("regions[].density", Type::kDouble, "kg/m^3", "initial mass density").req().gt(0));
   s.add(key("regions[].velocity", Type::kVec3, "m/s", "initial velocity").def("[0, 0, 0]"));
   s.add(key("regions[].sine_velocity", Type::kMap, "",

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <vector>
 
+#include "boundary_conditions.hpp"
 #include "errors.hpp"
 #include "grid.hpp"
 
@@ -57,7 +58,8 @@ void gauss_legendre(int n, std::vector<double>& xi, std::vector<double>& wi) {
 // order. cells: the centres of the n sub-cells of every grid cell, weight h/n. gauss: n
 // Gauss-Legendre points in every knot span of the scene's shape functions cut by the region's
 // faces (knots: the nodes for trilinear shapes; the cell centres and the domain's ends for
-// quadratic B-splines, whose knots are clamped at walls), weight = span length x Gauss weight.
+// quadratic B-splines, whose knots are clamped at walls; not the centre of a single cell
+// between two walls), weight = span length x Gauss weight.
 struct AxisPoint {
   double x, w;
 };
@@ -74,8 +76,13 @@ std::vector<AxisPoint> axis_points(const Scene& scene, const Grid& grid, const R
   const double lo = std::max(0.0, (reg.min[d] - o) / h);
   const double hi = std::min(static_cast<double>(cells), (reg.max[d] - o) / h);
   std::vector<double> cut{lo, hi};
-  const double shift = scene.solver.shape == ShapeKind::kQuadraticBSpline ? 0.5 : 0.0;
-  for (int k = 0; k <= cells; ++k) {
+  const bool b2 = scene.solver.shape == ShapeKind::kQuadraticBSpline;
+  const double shift = b2 ? 0.5 : 0.0;
+  // A single cell between two walls (a plane-strain slice): the walls hold all its B-spline
+  // slots (boundary_conditions.cpp), so no free function needs the cut at its centre.
+  const bool slice = b2 && cells == 1 && grid.axes[static_cast<std::size_t>(d)].clamp_lo &&
+                     grid.axes[static_cast<std::size_t>(d)].clamp_hi;
+  for (int k = 0; k <= cells && !slice; ++k) {
     const double t = k + shift;
     if (t > lo && t < hi) cut.push_back(t);
   }
@@ -95,7 +102,8 @@ std::vector<AxisPoint> axis_points(const Scene& scene, const Grid& grid, const R
 }  // namespace
 
 Particles generate_particles(const Scene& scene) {
-  const Grid grid(scene.grid);
+  Grid grid(scene.grid);
+  set_shape_axes(scene, grid);
   const double h = grid.h;
   Particles p;
   for (std::size_t r = 0; r < scene.regions.size(); ++r) {

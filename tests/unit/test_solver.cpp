@@ -398,4 +398,15 @@ TEST(ParticleInit, GaussPlacementFillsTheKnotSpans) {
       }
     }
   }
+  // A plane-strain slice (one cell between two walls along y): its B-spline slots are all held,
+  // so the cell is one span, n points across, not 2n.
+  Scene s = box(0.1, Vec3(0.4, 0.1, 0.4));
+  s.solver.shape = ShapeKind::kQuadraticBSpline;
+  s.walls[2].type = s.walls[3].type = WallType::kSlip;
+  s.regions.push_back(region("r", Vec3(0, 0, 0), Vec3(0.2, 0.1, 0.2)));
+  s.regions.back().gauss_placement = true;
+  s.regions.back().points_xyz = {{2, 1, 2}};
+  const Particles p = generate_particles(s);
+  EXPECT_EQ(p.size(), 6u * 1u * 6u);  // 3 spans along x and z (0.05, 0.15 cut), 1 across
+  for (std::size_t q = 0; q < p.size(); ++q) EXPECT_DOUBLE_EQ(p.x[q].y(), 0.05);
 }

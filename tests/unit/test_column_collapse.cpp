@@ -178,6 +178,16 @@ TEST(ColumnCollapse, FrontIgnoresPointsThatLeftTheDeposit) {
   const DepositShape e = measure_deposit(g, p);
   EXPECT_EQ(e.runout_front_m, e.runout_m);
   EXPECT_EQ(e.detached_mass_fraction, 0.0);
+  // runout_mass99_m: with a light train and strays (0.1 kg each against 2 kg per block point)
+  // 99 % of the 60.6 kg lies in the block, whose last column is at x = 0.475; with equal masses
+  // (34 points) it takes the last point.
+  EXPECT_NEAR(e.runout_mass99_m, 0.835, 1e-12);
+  p.x.resize(36);
+  p.m.assign(36, 2.0);
+  for (std::size_t q = 30; q < 36; ++q) p.m[q] = 0.1;
+  p.x[34] = Vec3(0.835 + 0.25, 0.0, 0.025);
+  p.x[35] = Vec3(0.835 + 0.30, 0.0, 0.025);
+  EXPECT_NEAR(measure_deposit(g, p).runout_mass99_m, 0.475, 1e-12);
 }
 
 TEST(ColumnCollapse, HigherFrictionRunsOutLessAndStandsTaller) {

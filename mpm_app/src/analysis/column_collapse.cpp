@@ -98,6 +98,14 @@ DepositShape measure_deposit(const ColumnGeometry& g, const Particles& p) {
     mass += p.m[order[k]];
     if (k > front) detached += p.m[order[k]];
   }
+  double cumulative = 0.0;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    cumulative += p.m[order[k]];
+    if (cumulative >= 0.99 * mass || k + 1 == order.size()) {
+      d.runout_mass99_m = p.x[order[k]][0] - g.x_back;
+      break;
+    }
+  }
   d.runout_m = p.x[order.back()][0] + 0.5 * g.spacing_x - g.x_back;
   d.runout_front_m = p.x[order[front]][0] + 0.5 * g.spacing_x - g.x_back;
   d.detached_mass_fraction = mass > 0.0 ? detached / mass : 0.0;
@@ -230,6 +238,7 @@ std::vector<std::pair<std::string, double>> ColumnCollapseMonitor::figures(
           {"runout_normalized", (d.runout_m - g_.L_i) / g_.L_i},
           {"runout_front_m", d.runout_front_m},
           {"runout_front_detached_mass_fraction", d.detached_mass_fraction},
+          {"runout_mass99_m", d.runout_mass99_m},
           {"final_height_m", d.final_height_m},
           {"final_height_over_initial", d.final_height_m / g_.H_i},
           {"Ep0_release_J", release_time_ ? E_p0_release_ : nan},

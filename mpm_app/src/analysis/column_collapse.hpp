@@ -23,6 +23,9 @@
 //                      interaction with it), + s_x/2 - x_back. Points that left the deposit
 //                      (FLIP-like transfers shed single points that slide on) do not set it.
 //   runout_front_detached_mass_fraction  share of the mass beyond that gap
+//   runout_mass99_m    x - x_back below which 99 % of the mass lies (points sorted by x, the
+//                      first whose cumulative mass reaches 0.99): the bulk of the deposit,
+//                      which neither a thin tongue one point deep nor a few shed points set
 //   final_height_m     H_f: top of the deposit, max_p z_p + s_z/2 - z_base (s_z along z)
 //   Ed_over_Ep0_final  E_d / E_p0 with E_p0 the potential energy at release measured from the
 //                      base (E_p = sum m |g| (z - z_base)), E_d = E_p0 - E_p - E_k
@@ -66,6 +69,7 @@ struct DepositShape {
   double final_height_m = 0.0;
   double runout_front_m = 0.0;
   double detached_mass_fraction = 0.0;
+  double runout_mass99_m = 0.0;
 };
 DepositShape measure_deposit(const ColumnGeometry& g, const Particles& p);
 

@@ -123,7 +123,7 @@ TEST(NativeContact, ShearSpringTurnsWithARigidRotationOfThePair) {
     NeighbourList nl;
     compute_forces(s, nl);  // the contact exists, without shear force
     const Vec3 fs0(0, 2e-4, 1e-4);
-    s.contacts.shear_force[0] = fs0;
+    s.contacts.shear_force.set(0, fs0);
     const int steps = 1000;
     const double total = 0.1, dphi = total / steps;
     const Vec3 w = axis * dphi / s.dt;

@@ -28,9 +28,9 @@ TEST(NativePacking, WrittenPackingReadsBackBitForBit) {
   a.state.spheres.vel[3] = Vec3(1.0 / 3.0, -2e-7, M_PI);
   a.state.spheres.ori[4] = Quat(Eigen::AngleAxisd(0.3, Vec3(1, 2, 3).normalized()));
   a.state.contacts.add(1, 2, CellDist(0, -1, 1));
-  a.state.contacts.normal[0] = Vec3(0, 0.6, 0.8);
+  a.state.contacts.normal.set(0, Vec3(0, 0.6, 0.8));
   a.state.contacts.penetration[0] = 1e-5 / 3.0;
-  a.state.contacts.shear_force[0] = Vec3(1e-9 / 3.0, 0, -1);
+  a.state.contacts.shear_force.set(0, Vec3(1e-9 / 3.0, 0, -1));
   a.state.cell.trsf(0, 1) = 1e-3 / 3.0;
   const auto file = temp_file("pack.native.txt");
   write_packing(a.state, file);

@@ -9,7 +9,10 @@ namespace mpmdem::dem::native {
 
 namespace {
 
-constexpr char kMagic[8] = {'M', 'P', 'M', 'D', 'N', 'A', 'T', '4'};
+// NAT5: contact vector fields xyz split (one array per component). NAT4 (interleaved) is
+// still read.
+constexpr char kMagic[8] = {'M', 'P', 'M', 'D', 'N', 'A', 'T', '5'};
+constexpr char kMagicNat4[8] = {'M', 'P', 'M', 'D', 'N', 'A', 'T', '4'};
 
 class Out {
  public:
@@ -72,6 +75,23 @@ void cell_fields(Stream& s, Cell& c) {
   }
 }
 
+// NAT4 stored the contacts' image offsets, normals and shear forces xyz interleaved.
+void read_nat4_contacts(In& in, Contacts& c) {
+  std::vector<CellDist> cell;
+  std::vector<Vec3> normal, shear;
+  in.get_vector(cell), in.get_vector(normal), in.get_vector(shear);
+  if (normal.size() != cell.size() || shear.size() != cell.size()) In::fail();
+  c.cell.resize(cell.size()), c.normal.resize(cell.size()), c.shear_force.resize(cell.size());
+  for (std::size_t k = 0; k < cell.size(); ++k) {
+    c.cell.set(k, cell[k]), c.normal.set(k, normal[k]), c.shear_force.set(k, shear[k]);
+  }
+}
+
+template <typename S>
+bool split_size(const S& v, std::size_t m) {
+  return v.c[0].size() == m && v.c[1].size() == m && v.c[2].size() == m;
+}
+
 }  // namespace
 
 std::string encode(const RveRecord& r) {
@@ -87,8 +107,11 @@ std::string encode(const RveRecord& r) {
   o.put_vector(sp.pos), o.put_vector(sp.vel), o.put_vector(sp.ang_vel);
   o.put_vector(sp.ori), o.put_vector(sp.ref_ori);
   const Contacts& c = s.contacts;
-  o.put_vector(c.id1), o.put_vector(c.id2), o.put_vector(c.cell);
-  o.put_vector(c.normal), o.put_vector(c.shear_force);
+  o.put_vector(c.id1), o.put_vector(c.id2);
+  for (const auto* f : {&c.cell.c[0], &c.cell.c[1], &c.cell.c[2]}) o.put_vector(*f);
+  for (const auto* v : {&c.normal, &c.shear_force}) {
+    for (const auto& f : v->c) o.put_vector(f);
+  }
   o.put_vector(c.penetration);
   o.put(r.point);
   o.put(r.p0);
@@ -102,7 +125,8 @@ RveRecord decode(const std::string& blob) {
   In in(blob);
   char magic[8];
   for (char& c : magic) in.get(c);
-  if (std::memcmp(magic, kMagic, sizeof magic) != 0) In::fail();
+  const bool nat4 = std::memcmp(magic, kMagicNat4, sizeof magic) == 0;
+  if (!nat4 && std::memcmp(magic, kMagic, sizeof magic) != 0) In::fail();
   RveRecord r;
   RveState& s = r.state;
   cell_fields(in, s.cell);
@@ -114,8 +138,15 @@ RveRecord decode(const std::string& blob) {
   in.get_vector(sp.pos), in.get_vector(sp.vel), in.get_vector(sp.ang_vel);
   in.get_vector(sp.ori), in.get_vector(sp.ref_ori);
   Contacts& c = s.contacts;
-  in.get_vector(c.id1), in.get_vector(c.id2), in.get_vector(c.cell);
-  in.get_vector(c.normal), in.get_vector(c.shear_force);
+  in.get_vector(c.id1), in.get_vector(c.id2);
+  if (nat4) {
+    read_nat4_contacts(in, c);
+  } else {
+    for (auto& f : c.cell.c) in.get_vector(f);
+    for (auto* v : {&c.normal, &c.shear_force}) {
+      for (auto& f : v->c) in.get_vector(f);
+    }
+  }
   in.get_vector(c.penetration);
   in.get(r.point);
   in.get(r.p0);
@@ -127,8 +158,8 @@ RveRecord decode(const std::string& blob) {
   const std::size_t n = sp.radius.size(), m = c.id1.size();
   const bool consistent = sp.mass.size() == n && sp.inertia.size() == n && sp.pos.size() == n &&
                           sp.vel.size() == n && sp.ang_vel.size() == n && sp.ori.size() == n &&
-                          sp.ref_ori.size() == n && c.id2.size() == m && c.cell.size() == m &&
-                          c.normal.size() == m && c.shear_force.size() == m &&
+                          sp.ref_ori.size() == n && c.id2.size() == m && split_size(c.cell, m) &&
+                          split_size(c.normal, m) && split_size(c.shear_force, m) &&
                           c.penetration.size() == m;
   if (!consistent || !in.done()) In::fail();
   for (std::size_t k = 0; k < m; ++k) {

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "backends/native/integrator.hpp"
+#include "backends/native/simd_clones.hpp"
 
 namespace mpmdem::dem::native {
 
@@ -66,16 +67,6 @@ void load(const Spheres& sp, std::size_t i0, int m, Block& b) {
   }
 }
 
-// The same code compiled for AVX-512 and AVX2 besides the baseline, the one the CPU supports
-// chosen at load time (GCC's function multiversioning): more lanes, the same bits (no
-// contraction into FMA: dem_server is built with -ffp-contract=off).
-#if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
-#define MPMDEM_SIMD_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
-#define MPMDEM_ALWAYS_INLINE inline __attribute__((always_inline))
-#else
-#define MPMDEM_SIMD_CLONES
-#define MPMDEM_ALWAYS_INLINE inline
-#endif
 // The block's arithmetic, lane by lane (no control flow: it vectorises); kDvg: the
 // cell's gradient changed in this step (leapfrogTranslate's extra term).
 template <bool kDvg>

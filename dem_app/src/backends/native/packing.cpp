@@ -140,8 +140,8 @@ RveState read_packing(const std::filesystem::path& file) {
     if (v[2] != std::tan(s.material.friction_angle)) {
       r.fail("contact friction differs from the material's (one material per RVE)");
     }
-    s.contacts.normal[c] = Vec3(v[3], v[4], v[5]);
-    s.contacts.shear_force[c] = Vec3(v[6], v[7], v[8]);
+    s.contacts.normal.set(c, Vec3(v[3], v[4], v[5]));
+    s.contacts.shear_force.set(c, Vec3(v[6], v[7], v[8]));
     // The normal force is kn max(pen, 0) n (Contacts::normal_force). YADE does not save
     // penetrationDepth (exported as 0): then the penetration |Fn| / kn reproduces the saved
     // normal force (to rounding) until the first step recomputes both.

@@ -48,21 +48,54 @@ struct Spheres {
 using CellDist = Eigen::Matrix<std::int16_t, 3, 1>;
 CellDist to_cell_dist(const Eigen::Vector3i& c);
 
+// A per-contact vector field stored xyz split: one contiguous array per component, so that
+// the contact loop reads and writes it with unit stride (and vectorises). V is the vector
+// type handed out (Vec3 or CellDist), T its scalar.
+template <typename T, typename V>
+struct Split3 {
+  std::vector<T> c[3];
+  V operator[](std::size_t k) const { return V(c[0][k], c[1][k], c[2][k]); }
+  void set(std::size_t k, const V& v) {
+    for (int a = 0; a < 3; ++a) c[a][k] = v[a];
+  }
+  void push_back(const V& v) {
+    for (int a = 0; a < 3; ++a) c[a].push_back(v[a]);
+  }
+  void pop_back() {
+    for (auto& x : c) x.pop_back();
+  }
+  void clear() {
+    for (auto& x : c) x.clear();
+  }
+  void resize(std::size_t n) {
+    for (auto& x : c) x.resize(n);
+  }
+  std::size_t size() const { return c[0].size(); }
+  std::size_t capacity_bytes() const {
+    return (c[0].capacity() + c[1].capacity() + c[2].capacity()) * sizeof(T);
+  }
+};
+
 // Real contacts (Interaction with ScGeom + FrictPhys): body 2's image is pos2 + hsize * cell.
-// kn and ks are not stored: they follow from the two radii and the RVE's one material
-// (contact_stiffness); nor is the normal force (normal_force).
+// Structure of arrays, vector fields xyz split (Split3), kept so between steps: the contact
+// loop streams through them. kn and ks are not stored: they follow from the two radii and
+// the RVE's one material (contact_stiffness); nor is the normal force (normal_force).
 struct Contacts {
   std::vector<std::uint32_t> id1, id2;
-  std::vector<CellDist> cell;       // Interaction::cellDist
-  std::vector<Vec3> normal;         // ScGeom::normal (unit, 1 -> 2)
-  std::vector<Vec3> shear_force;    // FrictPhys::shearForce (rotated with the contact)
-  std::vector<double> penetration;  // ScGeom::penetrationDepth (last step)
+  Split3<std::int16_t, CellDist> cell;  // Interaction::cellDist
+  Split3<double, Vec3> normal;          // ScGeom::normal (unit, 1 -> 2)
+  Split3<double, Vec3> shear_force;     // FrictPhys::shearForce (rotated with the contact)
+  std::vector<double> penetration;      // ScGeom::penetrationDepth (last step)
   std::size_t size() const { return id1.size(); }
   void clear();
   // Appends a contact with zero forces; returns its index.
   std::size_t add(std::uint32_t a, std::uint32_t b, const CellDist& c);
   // Removes contact k by moving the last one into its place.
   void swap_remove(std::size_t k);
+  // Moves contact `from` to index `to` (to < from; compaction keeping the order).
+  void move(std::size_t from, std::size_t to);
+  // Keeps the first n contacts.
+  void truncate(std::size_t n);
   std::size_t heap_bytes() const;  // allocated capacity of all arrays
   // Capacity = size + 1/8 (at least 16): the arrays grow by 1/8 instead of doubling.
   void fit();

@@ -1,48 +1,116 @@
 // RVE measures as YADE's utils compute them: see measures.hpp.
 #include "backends/native/measures.hpp"
 
+#include <algorithm>
 #include <cmath>
+
+#include "backends/native/simd_clones.hpp"
 
 namespace mpmdem::dem::native {
 
-StressStiffness stress_and_stiffness(const RveState& s, bool stiffness) {
-  Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
-  Vec3 cii = Vec3::Zero(), si = Vec3::Zero();
-  const auto& c = s.contacts;
-  const auto& pos = s.spheres.pos;
-  for (std::size_t k = 0; k < c.size(); ++k) {
-    // Branch x1 - x2 - H c (and l = x2 + H c - x1 for the bound): most contacts lie inside
-    // the cell, where the zero shift changes no bit.
-    const bool image = c.cell[k] != CellDist::Zero();
-    const Vec3 shift = image ? s.cell.shift(c.cell[k]) : Vec3::Zero();
-    const Vec3 x1 = pos[c.id1[k]], x2 = pos[c.id2[k]];
-    const Vec3 branch = image ? Vec3(x1 - x2 - shift) : Vec3(x1 - x2);
-    const FrictPhys phys = contact_stiffness(s, k);
-    const Vec3 fn = phys.kn * std::max(c.penetration[k], 0.0) * c.normal[k];
-    sum += (fn + c.shear_force[k]) * branch.transpose();
-    if (!stiffness) continue;
-    const Vec3 l = image ? Vec3(x2 + shift - x1) : Vec3(-branch);
-    const double l2 = l.squaredNorm();
-    const Vec3& n = c.normal[k];
-    const double fs2 = c.shear_force[k].squaredNorm();
-    const double inv_fs2 = fs2 > 0 ? 1 / fs2 : 0.0;  // t_i^2 = fs_i^2 / |fs|^2
+namespace {
+
+// Love-Weber sum and the stiffness sums over the contacts in kLanes interleaved partial sums
+// (contact k goes to lane k mod kLanes), added up lane by lane at the end. The contributions
+// of a chunk of contacts are computed by one loop that vectorises (SIMD clones), then added
+// to the lanes in contact order: every clone gives the same bits.
+constexpr int kLanes = 8;
+constexpr std::size_t kChunk = 128;  // a multiple of kLanes
+constexpr int kTerms = 15;           // 9 stress, 3 C_ii, 3 S_i
+// Per contact of a chunk: (Fn + Fs) branch^T, l^2 n_i^2 (kn n_i^2 + ks t_i^2), kn l^2 n_i^2.
+struct Contributions {
+  double v[kTerms][kChunk];
+};
+
+MPMDEM_SIMD_CLONES void contributions(
+    std::size_t m, const double (&h)[3][3], double young, double ks_kn,
+    const std::uint32_t* __restrict id1, const std::uint32_t* __restrict id2,
+    const std::int16_t* __restrict c0, const std::int16_t* __restrict c1,
+    const std::int16_t* __restrict c2, const double* __restrict nx, const double* __restrict ny,
+    const double* __restrict nz, const double* __restrict sx, const double* __restrict sy,
+    const double* __restrict sz, const double* __restrict pen, const double* __restrict pos,
+    const double* __restrict rad, Contributions* __restrict out) {
+  for (std::size_t k = 0; k < m; ++k) {
+    const std::size_t a = 3 * std::size_t{id1[k]}, b = 3 * std::size_t{id2[k]};
+    const double c[3] = {double(c0[k]), double(c1[k]), double(c2[k])};
+    const double n[3] = {nx[k], ny[k], nz[k]};
+    const double fs[3] = {sx[k], sy[k], sz[k]};
+    // l = x2 + H c - x1 (branch vector 1 -> 2); Love-Weber's branch is -l.
+    double l[3];
+    for (int q = 0; q < 3; ++q) {
+      l[q] = (pos[b + q] + (h[q][0] * c[0] + h[q][1] * c[1] + h[q][2] * c[2])) - pos[a + q];
+    }
+    const double e1 = young * rad[id1[k]], e2 = young * rad[id2[k]];
+    const double kn = 2 * e1 * e2 / (e1 + e2);
+    const double ks = ks_kn * kn;
+    const double fn_mag = kn * std::max(pen[k], 0.0);
+    for (int i = 0; i < 3; ++i) {
+      const double f = fn_mag * n[i] + fs[i];
+      for (int j = 0; j < 3; ++j) out->v[3 * i + j][k] = f * -l[j];
+    }
+    const double l2 = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
+    const double fs2 = fs[0] * fs[0] + fs[1] * fs[1] + fs[2] * fs[2];
+    const double inv = 1 / fs2;
+    const double inv_fs2 = fs2 > 0 ? inv : 0.0;  // t_i^2 = fs_i^2 / |fs|^2
     for (int i = 0; i < 3; ++i) {
       const double ni2 = n[i] * n[i];
-      const double ti2 = c.shear_force[k][i] * c.shear_force[k][i] * inv_fs2;
-      cii[i] += l2 * ni2 * (phys.kn * ni2 + phys.ks * ti2);
-      si[i] += phys.kn * l2 * ni2;
+      const double ti2 = fs[i] * fs[i] * inv_fs2;
+      out->v[9 + i][k] = l2 * ni2 * (kn * ni2 + ks * ti2);
+      out->v[12 + i][k] = kn * l2 * ni2;
+    }
+  }
+}
+
+// lanes[t][k mod kLanes] += out.v[t][k] for k < m, in the order of k.
+void add_to_lanes(double (&lanes)[kTerms][kLanes], const Contributions& out, std::size_t m) {
+  const std::size_t full = m / kLanes * kLanes;
+  for (int t = 0; t < kTerms; ++t) {
+    for (std::size_t k0 = 0; k0 < full; k0 += kLanes) {
+      for (int j = 0; j < kLanes; ++j) lanes[t][j] += out.v[t][k0 + j];
+    }
+    for (std::size_t k = full; k < m; ++k) lanes[t][k - full] += out.v[t][k];
+  }
+}
+
+}  // namespace
+
+StressStiffness stress_and_stiffness(const RveState& s, bool stiffness) {
+  const auto& c = s.contacts;
+  const double* pos = s.spheres.pos.empty() ? nullptr : s.spheres.pos[0].data();
+  double h[3][3];
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) h[a][b] = s.cell.hsize(a, b);
+  double lanes[kTerms][kLanes] = {};
+  Contributions out;
+  for (std::size_t k0 = 0; k0 < c.size(); k0 += kChunk) {
+    const std::size_t m = std::min(kChunk, c.size() - k0);
+    contributions(m, h, s.material.young, s.material.ks_kn, c.id1.data() + k0, c.id2.data() + k0,
+                  c.cell.c[0].data() + k0, c.cell.c[1].data() + k0, c.cell.c[2].data() + k0,
+                  c.normal.c[0].data() + k0, c.normal.c[1].data() + k0, c.normal.c[2].data() + k0,
+                  c.shear_force.c[0].data() + k0, c.shear_force.c[1].data() + k0,
+                  c.shear_force.c[2].data() + k0, c.penetration.data() + k0, pos,
+                  s.spheres.radius.data(), &out);
+    add_to_lanes(lanes, out, m);
+  }
+  Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
+  Vec3 cii = Vec3::Zero(), si = Vec3::Zero();
+  for (int j = 0; j < kLanes; ++j) {
+    for (int a = 0; a < 3; ++a) {
+      for (int b = 0; b < 3; ++b) sum(a, b) += lanes[3 * a + b][j];
+      cii[a] += lanes[9 + a][j];
+      si[a] += lanes[12 + a][j];
     }
   }
   const double volume = s.cell.volume();
-  StressStiffness out{sum / volume, 0.0};
-  if (!stiffness) return out;
+  StressStiffness out_ss{sum / volume, 0.0};
+  if (!stiffness) return out_ss;
   const double a = s.material.ks_kn;
   for (int i = 0; i < 3; ++i) {
     const double b = a <= 1 ? (1 - a) * cii[i] + a * si[i] : cii[i] + a * si[i];
-    out.stiffness = std::max(out.stiffness, b);
+    out_ss.stiffness = std::max(out_ss.stiffness, b);
   }
-  out.stiffness /= volume;
-  return out;
+  out_ss.stiffness /= volume;
+  return out_ss;
 }
 
 Eigen::Matrix3d love_weber_stress(const RveState& s) {

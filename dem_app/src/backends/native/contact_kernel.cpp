@@ -10,41 +10,20 @@ namespace mpmdem::dem::native {
 
 namespace {
 
-// The indices, radii and image offsets of a chunk's contacts, widened to 64 bits so that the
-// main loop has no narrower type (GCC would otherwise size its vectors by the int16 offsets
-// and run 32 contacts per iteration, spilling registers).
-struct Staged {
-  std::int64_t a[kContactChunk], b[kContactChunk];  // 3 x sphere index
-  double r1[kContactChunk], r2[kContactChunk], c[3][kContactChunk];
-};
-
-MPMDEM_SIMD_CLONES void stage(std::size_t m, const std::uint32_t* __restrict id1,
-                              const std::uint32_t* __restrict id2,
-                              const std::int16_t* __restrict c0, const std::int16_t* __restrict c1,
-                              const std::int16_t* __restrict c2, const double* __restrict rad,
-                              Staged* __restrict st) {
-  for (std::size_t j = 0; j < m; ++j) {
-    st->a[j] = 3 * std::int64_t{id1[j]};
-    st->b[j] = 3 * std::int64_t{id2[j]};
-    st->r1[j] = rad[id1[j]];
-    st->r2[j] = rad[id2[j]];
-    st->c[0][j] = c0[j], st->c[1][j] = c1[j], st->c[2][j] = c2[j];
-  }
-}
-
 // The arrays one call reads and writes (restrict: the vectoriser needs no alias checks).
 // Sphere fields are xyz interleaved (3 doubles per sphere), contact fields xyz split.
 MPMDEM_SIMD_CLONES void contact_loop(std::size_t m, const LawConstants& kc,
-                                     const Staged* __restrict st, double* __restrict nx,
+                                     const StagedContacts* __restrict st, double* __restrict nx,
                                      double* __restrict ny, double* __restrict nz,
                                      double* __restrict sx, double* __restrict sy,
                                      double* __restrict sz, double* __restrict pen_out,
                                      const double* __restrict pos, const double* __restrict vel,
-                                     const double* __restrict ang, ContactOut* __restrict out) {
+                                     const double* __restrict ang, const double* __restrict rad,
+                                     ContactOut* __restrict out) {
   const LawConstants k = kc;
   for (std::size_t j = 0; j < m; ++j) {
-    const std::int64_t a = st->a[j], b = st->b[j];
-    const double r1 = st->r1[j], r2 = st->r2[j];
+    const std::int64_t a = 3 * st->a[j], b = 3 * st->b[j];
+    const double r1 = rad[st->a[j]], r2 = rad[st->b[j]];
     const double ci[3] = {st->c[0][j], st->c[1][j], st->c[2][j]};
     // Image of sphere 2: x2 + H c and its extra velocity (L H_before) c (Cell::intrShiftVel);
     // zero for the contacts inside the cell (adding it changes no bit).
@@ -120,6 +99,27 @@ MPMDEM_SIMD_CLONES void contact_loop(std::size_t m, const LawConstants& kc,
 
 }  // namespace
 
+namespace {
+
+MPMDEM_SIMD_CLONES void stage(std::size_t m, const std::uint32_t* __restrict id1,
+                              const std::uint32_t* __restrict id2,
+                              const std::int16_t* __restrict c0, const std::int16_t* __restrict c1,
+                              const std::int16_t* __restrict c2, StagedContacts* __restrict st) {
+  for (std::size_t j = 0; j < m; ++j) {
+    st->a[j] = id1[j];
+    st->b[j] = id2[j];
+    st->c[0][j] = c0[j], st->c[1][j] = c1[j], st->c[2][j] = c2[j];
+  }
+}
+
+}  // namespace
+
+void stage_contacts(const RveState& s, std::size_t k0, std::size_t m, StagedContacts& st) {
+  const auto& c = s.contacts;
+  stage(m, c.id1.data() + k0, c.id2.data() + k0, c.cell.c[0].data() + k0, c.cell.c[1].data() + k0,
+        c.cell.c[2].data() + k0, &st);
+}
+
 LawConstants law_constants(const RveState& s) {
   LawConstants k;
   k.dt = s.dt;
@@ -142,14 +142,13 @@ void update_contacts(RveState& s, const LawConstants& k, std::size_t k0, std::si
   if (m == 0) return;
   auto& c = s.contacts;
   auto& sp = s.spheres;
-  Staged st;
-  stage(m, c.id1.data() + k0, c.id2.data() + k0, c.cell.c[0].data() + k0, c.cell.c[1].data() + k0,
-        c.cell.c[2].data() + k0, sp.radius.data(), &st);
+  StagedContacts st;
+  stage_contacts(s, k0, m, st);
   contact_loop(m, k, &st, c.normal.c[0].data() + k0, c.normal.c[1].data() + k0,
                c.normal.c[2].data() + k0, c.shear_force.c[0].data() + k0,
                c.shear_force.c[1].data() + k0, c.shear_force.c[2].data() + k0,
                c.penetration.data() + k0, sp.pos[0].data(), sp.vel[0].data(), sp.ang_vel[0].data(),
-               &out);
+               sp.radius.data(), &out);
 }
 
 }  // namespace mpmdem::dem::native

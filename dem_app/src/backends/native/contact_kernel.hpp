@@ -24,6 +24,16 @@ struct ContactOut {
   double f[3][kContactChunk], t1[3][kContactChunk], t2[3][kContactChunk];
 };
 
+// The indices, radii and image offsets of a chunk's contacts, widened to 64 bits, so that
+// the vectorised loops over contacts have no narrower type (GCC would otherwise size their
+// vectors by the 16-bit offsets, 32 contacts per iteration, and spill registers).
+struct StagedContacts {
+  std::int64_t a[kContactChunk], b[kContactChunk];  // sphere indices
+  double c[3][kContactChunk];
+};
+// Contacts [k0, k0 + m), m <= kContactChunk.
+void stage_contacts(const RveState& s, std::size_t k0, std::size_t m, StagedContacts& st);
+
 // What every contact of a step shares.
 struct LawConstants {
   double dt, half_dt, young, ks_kn, tan2;  // tan2: tan(friction angle)^2

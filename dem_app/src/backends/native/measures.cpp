@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "backends/native/contact_kernel.hpp"
 #include "backends/native/simd_clones.hpp"
 
 namespace mpmdem::dem::native {
@@ -15,24 +16,24 @@ namespace {
 // of a chunk of contacts are computed by one loop that vectorises (SIMD clones), then added
 // to the lanes in contact order: every clone gives the same bits.
 constexpr int kLanes = 8;
-constexpr std::size_t kChunk = 128;  // a multiple of kLanes
-constexpr int kTerms = 15;           // 9 stress, 3 C_ii, 3 S_i
+constexpr std::size_t kChunk = kContactChunk;  // a multiple of kLanes
+static_assert(kChunk % kLanes == 0);
+constexpr int kTerms = 15;  // 9 stress, 3 C_ii, 3 S_i
 // Per contact of a chunk: (Fn + Fs) branch^T, l^2 n_i^2 (kn n_i^2 + ks t_i^2), kn l^2 n_i^2.
 struct Contributions {
   double v[kTerms][kChunk];
 };
 
-MPMDEM_SIMD_CLONES void contributions(
-    std::size_t m, const double (&h)[3][3], double young, double ks_kn,
-    const std::uint32_t* __restrict id1, const std::uint32_t* __restrict id2,
-    const std::int16_t* __restrict c0, const std::int16_t* __restrict c1,
-    const std::int16_t* __restrict c2, const double* __restrict nx, const double* __restrict ny,
-    const double* __restrict nz, const double* __restrict sx, const double* __restrict sy,
-    const double* __restrict sz, const double* __restrict pen, const double* __restrict pos,
-    const double* __restrict rad, Contributions* __restrict out) {
+MPMDEM_SIMD_CLONES void contributions(std::size_t m, const double (&h)[3][3], double young,
+                                      double ks_kn, const StagedContacts* __restrict st,
+                                      const double* __restrict nx, const double* __restrict ny,
+                                      const double* __restrict nz, const double* __restrict sx,
+                                      const double* __restrict sy, const double* __restrict sz,
+                                      const double* __restrict pen, const double* __restrict pos,
+                                      const double* __restrict rad, Contributions* __restrict out) {
   for (std::size_t k = 0; k < m; ++k) {
-    const std::size_t a = 3 * std::size_t{id1[k]}, b = 3 * std::size_t{id2[k]};
-    const double c[3] = {double(c0[k]), double(c1[k]), double(c2[k])};
+    const std::int64_t a = 3 * st->a[k], b = 3 * st->b[k];
+    const double c[3] = {st->c[0][k], st->c[1][k], st->c[2][k]};
     const double n[3] = {nx[k], ny[k], nz[k]};
     const double fs[3] = {sx[k], sy[k], sz[k]};
     // l = x2 + H c - x1 (branch vector 1 -> 2); Love-Weber's branch is -l.
@@ -40,7 +41,7 @@ MPMDEM_SIMD_CLONES void contributions(
     for (int q = 0; q < 3; ++q) {
       l[q] = (pos[b + q] + (h[q][0] * c[0] + h[q][1] * c[1] + h[q][2] * c[2])) - pos[a + q];
     }
-    const double e1 = young * rad[id1[k]], e2 = young * rad[id2[k]];
+    const double e1 = young * rad[st->a[k]], e2 = young * rad[st->b[k]];
     const double kn = 2 * e1 * e2 / (e1 + e2);
     const double ks = ks_kn * kn;
     const double fn_mag = kn * std::max(pen[k], 0.0);
@@ -82,11 +83,12 @@ StressStiffness stress_and_stiffness(const RveState& s, bool stiffness) {
     for (int b = 0; b < 3; ++b) h[a][b] = s.cell.hsize(a, b);
   double lanes[kTerms][kLanes] = {};
   Contributions out;
+  StagedContacts st;
   for (std::size_t k0 = 0; k0 < c.size(); k0 += kChunk) {
     const std::size_t m = std::min(kChunk, c.size() - k0);
-    contributions(m, h, s.material.young, s.material.ks_kn, c.id1.data() + k0, c.id2.data() + k0,
-                  c.cell.c[0].data() + k0, c.cell.c[1].data() + k0, c.cell.c[2].data() + k0,
-                  c.normal.c[0].data() + k0, c.normal.c[1].data() + k0, c.normal.c[2].data() + k0,
+    stage_contacts(s, k0, m, st);
+    contributions(m, h, s.material.young, s.material.ks_kn, &st, c.normal.c[0].data() + k0,
+                  c.normal.c[1].data() + k0, c.normal.c[2].data() + k0,
                   c.shear_force.c[0].data() + k0, c.shear_force.c[1].data() + k0,
                   c.shear_force.c[2].data() + k0, c.penetration.data() + k0, pos,
                   s.spheres.radius.data(), &out);

@@ -88,7 +88,7 @@ TEST(NativeContact, ShearSpringSlidesAtTheCoulombLimit) {
   const Vec3 n(0, 0, 1);
   RveState s = two_spheres(Vec3::Constant(0.02), (2 * kR - kDelta) * n);
   const double v = 0.1;  // the spring reaches the cap after ~65 steps
-  s.spheres.vel[1] = Vec3(v, 0, 0);
+  s.spheres.vel.set(1, Vec3(v, 0, 0));
   NeighbourList nl;
   const double kn = kE * kR, ks = kKsKn * kn;
   const double alpha = 2 * kR / (2 * kR - kDelta);
@@ -130,11 +130,12 @@ TEST(NativeContact, ShearSpringTurnsWithARigidRotationOfThePair) {
     const Vec3 x1 = s.spheres.pos[0] - c, x2 = s.spheres.pos[1] - c;
     for (int k = 1; k <= steps; ++k) {
       const Eigen::Matrix3d rot = Eigen::AngleAxisd(k * dphi, axis).toRotationMatrix();
-      s.spheres.pos[0] = c + rot * x1;
-      s.spheres.pos[1] = c + rot * x2;
-      s.spheres.vel[0] = w.cross(rot * x1);
-      s.spheres.vel[1] = w.cross(rot * x2);
-      s.spheres.ang_vel[0] = s.spheres.ang_vel[1] = w;
+      s.spheres.pos.set(0, c + rot * x1);
+      s.spheres.pos.set(1, c + rot * x2);
+      s.spheres.vel.set(0, w.cross(rot * x1));
+      s.spheres.vel.set(1, w.cross(rot * x2));
+      s.spheres.ang_vel.set(0, w);
+      s.spheres.ang_vel.set(1, w);
       compute_forces(s, nl);
     }
     const Vec3 expected = Eigen::AngleAxisd(total, axis) * fs0;
@@ -151,8 +152,8 @@ TEST(NativeContact, UndampedCollisionConservesEnergy) {
   const Vec3 n(0, 1, 0);
   RveState s = two_spheres(Vec3::Constant(0.02), (2 * kR + 1e-7) * n);
   const double v = 0.05;
-  s.spheres.vel[0] = 0.5 * v * n;
-  s.spheres.vel[1] = -0.5 * v * n;
+  s.spheres.vel.set(0, 0.5 * v * n);
+  s.spheres.vel.set(1, -0.5 * v * n);
   const double m = s.spheres.mass[0];
   const double e0 = 2 * 0.5 * m * (0.5 * v) * (0.5 * v);
   NeighbourList nl;

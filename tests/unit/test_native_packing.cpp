@@ -25,7 +25,7 @@ TEST(NativePacking, WrittenPackingReadsBackBitForBit) {
   p.seed = 5;
   RveRecord a;
   a.state = build_cloud(p);
-  a.state.spheres.vel[3] = Vec3(1.0 / 3.0, -2e-7, M_PI);
+  a.state.spheres.vel.set(3, Vec3(1.0 / 3.0, -2e-7, M_PI));
   a.state.spheres.ori[4] = Quat(Eigen::AngleAxisd(0.3, Vec3(1, 2, 3).normalized()));
   a.state.contacts.add(1, 2, CellDist(0, -1, 1));
   a.state.contacts.normal.set(0, Vec3(0, 0.6, 0.8));

@@ -9,8 +9,8 @@ namespace mpmdem::dem::native {
 
 namespace {
 
-// NAT5: contact vector fields xyz split (one array per component). NAT4 (interleaved) is
-// still read.
+// NAT5: sphere and contact vector fields xyz split (one array per component). NAT4
+// (interleaved) is still read.
 constexpr char kMagic[8] = {'M', 'P', 'M', 'D', 'N', 'A', 'T', '5'};
 constexpr char kMagicNat4[8] = {'M', 'P', 'M', 'D', 'N', 'A', 'T', '4'};
 
@@ -26,6 +26,10 @@ class Out {
     static_assert(std::is_standard_layout_v<T>);
     put<std::uint64_t>(v.size());
     buf_.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+  }
+  template <typename T, typename V>
+  void put_split(const Split3<T, V>& v) {
+    for (const auto& f : v.c) put_vector(f);
   }
   std::string take() { return std::move(buf_); }
 
@@ -51,6 +55,19 @@ class In {
     if (n) std::memcpy(static_cast<void*>(v.data()), b_.data() + at_, n * sizeof(T));
     at_ += n * sizeof(T);
   }
+  // NAT5: three arrays; NAT4 (interleaved): one array of vectors.
+  template <typename T, typename V>
+  void get_split(Split3<T, V>& v, bool interleaved) {
+    if (!interleaved) {
+      for (auto& f : v.c) get_vector(f);
+      if (v.c[1].size() != v.c[0].size() || v.c[2].size() != v.c[0].size()) fail();
+      return;
+    }
+    std::vector<V> w;
+    get_vector(w);
+    v.resize(w.size());
+    for (std::size_t k = 0; k < w.size(); ++k) v.set(k, w[k]);
+  }
   bool done() const { return at_ == b_.size(); }
   [[noreturn]] static void fail() {
     throw std::runtime_error("native backend: truncated or invalid RVE state");
@@ -75,23 +92,6 @@ void cell_fields(Stream& s, Cell& c) {
   }
 }
 
-// NAT4 stored the contacts' image offsets, normals and shear forces xyz interleaved.
-void read_nat4_contacts(In& in, Contacts& c) {
-  std::vector<CellDist> cell;
-  std::vector<Vec3> normal, shear;
-  in.get_vector(cell), in.get_vector(normal), in.get_vector(shear);
-  if (normal.size() != cell.size() || shear.size() != cell.size()) In::fail();
-  c.cell.resize(cell.size()), c.normal.resize(cell.size()), c.shear_force.resize(cell.size());
-  for (std::size_t k = 0; k < cell.size(); ++k) {
-    c.cell.set(k, cell[k]), c.normal.set(k, normal[k]), c.shear_force.set(k, shear[k]);
-  }
-}
-
-template <typename S>
-bool split_size(const S& v, std::size_t m) {
-  return v.c[0].size() == m && v.c[1].size() == m && v.c[2].size() == m;
-}
-
 }  // namespace
 
 std::string encode(const RveRecord& r) {
@@ -104,14 +104,11 @@ std::string encode(const RveRecord& r) {
   o.put(s.iter);
   const Spheres& sp = s.spheres;
   o.put_vector(sp.radius), o.put_vector(sp.mass), o.put_vector(sp.inertia);
-  o.put_vector(sp.pos), o.put_vector(sp.vel), o.put_vector(sp.ang_vel);
+  o.put_split(sp.pos), o.put_split(sp.vel), o.put_split(sp.ang_vel);
   o.put_vector(sp.ori), o.put_vector(sp.ref_ori);
   const Contacts& c = s.contacts;
   o.put_vector(c.id1), o.put_vector(c.id2);
-  for (const auto* f : {&c.cell.c[0], &c.cell.c[1], &c.cell.c[2]}) o.put_vector(*f);
-  for (const auto* v : {&c.normal, &c.shear_force}) {
-    for (const auto& f : v->c) o.put_vector(f);
-  }
+  o.put_split(c.cell), o.put_split(c.normal), o.put_split(c.shear_force);
   o.put_vector(c.penetration);
   o.put(r.point);
   o.put(r.p0);
@@ -135,18 +132,11 @@ RveRecord decode(const std::string& blob) {
   in.get(s.iter);
   Spheres& sp = s.spheres;
   in.get_vector(sp.radius), in.get_vector(sp.mass), in.get_vector(sp.inertia);
-  in.get_vector(sp.pos), in.get_vector(sp.vel), in.get_vector(sp.ang_vel);
+  in.get_split(sp.pos, nat4), in.get_split(sp.vel, nat4), in.get_split(sp.ang_vel, nat4);
   in.get_vector(sp.ori), in.get_vector(sp.ref_ori);
   Contacts& c = s.contacts;
   in.get_vector(c.id1), in.get_vector(c.id2);
-  if (nat4) {
-    read_nat4_contacts(in, c);
-  } else {
-    for (auto& f : c.cell.c) in.get_vector(f);
-    for (auto* v : {&c.normal, &c.shear_force}) {
-      for (auto& f : v->c) in.get_vector(f);
-    }
-  }
+  in.get_split(c.cell, nat4), in.get_split(c.normal, nat4), in.get_split(c.shear_force, nat4);
   in.get_vector(c.penetration);
   in.get(r.point);
   in.get(r.p0);
@@ -158,8 +148,8 @@ RveRecord decode(const std::string& blob) {
   const std::size_t n = sp.radius.size(), m = c.id1.size();
   const bool consistent = sp.mass.size() == n && sp.inertia.size() == n && sp.pos.size() == n &&
                           sp.vel.size() == n && sp.ang_vel.size() == n && sp.ori.size() == n &&
-                          sp.ref_ori.size() == n && c.id2.size() == m && split_size(c.cell, m) &&
-                          split_size(c.normal, m) && split_size(c.shear_force, m) &&
+                          sp.ref_ori.size() == n && c.id2.size() == m && c.cell.size() == m &&
+                          c.normal.size() == m && c.shear_force.size() == m &&
                           c.penetration.size() == m;
   if (!consistent || !in.done()) In::fail();
   for (std::size_t k = 0; k < m; ++k) {

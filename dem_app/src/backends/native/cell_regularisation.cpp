@@ -40,9 +40,9 @@ int tile_if_thin(RveState& s, NeighbourList& nl) {
     sp.radius[c] = sp.radius[k];
     sp.mass[c] = sp.mass[k];
     sp.inertia[c] = sp.inertia[k];
-    sp.pos[c] = sp.pos[k] + shift;
-    sp.vel[c] = sp.vel[k] + l * shift;
-    sp.ang_vel[c] = sp.ang_vel[k];
+    sp.pos.set(c, sp.pos[k] + shift);
+    sp.vel.set(c, sp.vel[k] + l * shift);
+    sp.ang_vel.set(c, sp.ang_vel[k]);
     sp.ori[c] = sp.ori[k];
     sp.ref_ori[c] = sp.ref_ori[k];
   }

@@ -11,19 +11,22 @@ namespace mpmdem::dem::native {
 namespace {
 
 // The arrays one call reads and writes (restrict: the vectoriser needs no alias checks).
-// Sphere fields are xyz interleaved (3 doubles per sphere), contact fields xyz split.
-MPMDEM_SIMD_CLONES void contact_loop(std::size_t m, const LawConstants& kc,
-                                     const StagedContacts* __restrict st, double* __restrict nx,
-                                     double* __restrict ny, double* __restrict nz,
-                                     double* __restrict sx, double* __restrict sy,
-                                     double* __restrict sz, double* __restrict pen_out,
-                                     const double* __restrict pos, const double* __restrict vel,
-                                     const double* __restrict ang, const double* __restrict rad,
-                                     ContactOut* __restrict out) {
+// Sphere and contact vector fields are xyz split (x0, x1, x2: the components of the position).
+MPMDEM_SIMD_CLONES void contact_loop(
+    std::size_t m, const LawConstants& kc, const StagedContacts* __restrict st,
+    double* __restrict nx, double* __restrict ny, double* __restrict nz, double* __restrict sx,
+    double* __restrict sy, double* __restrict sz, double* __restrict pen_out,
+    const double* __restrict x0, const double* __restrict x1, const double* __restrict x2,
+    const double* __restrict v0, const double* __restrict v1, const double* __restrict v2,
+    const double* __restrict w0, const double* __restrict w1_, const double* __restrict w2_,
+    const double* __restrict rad, ContactOut* __restrict out) {
+  const double* const pos[3] = {x0, x1, x2};
+  const double* const vel[3] = {v0, v1, v2};
+  const double* const ang[3] = {w0, w1_, w2_};
   const LawConstants k = kc;
   for (std::size_t j = 0; j < m; ++j) {
-    const std::int64_t a = 3 * st->a[j], b = 3 * st->b[j];
-    const double r1 = rad[st->a[j]], r2 = rad[st->b[j]];
+    const std::int64_t a = st->a[j], b = st->b[j];
+    const double r1 = rad[a], r2 = rad[b];
     const double ci[3] = {st->c[0][j], st->c[1][j], st->c[2][j]};
     // Image of sphere 2: x2 + H c and its extra velocity (L H_before) c (Cell::intrShiftVel);
     // zero for the contacts inside the cell (adding it changes no bit).
@@ -31,7 +34,7 @@ MPMDEM_SIMD_CLONES void contact_loop(std::size_t m, const LawConstants& kc,
     for (int q = 0; q < 3; ++q) {
       const double shift = k.h[q][0] * ci[0] + k.h[q][1] * ci[1] + k.h[q][2] * ci[2];
       sv[q] = k.lh[q][0] * ci[0] + k.lh[q][1] * ci[1] + k.lh[q][2] * ci[2];
-      d[q] = (pos[b + q] + shift) - pos[a + q];
+      d[q] = (pos[q][b] + shift) - pos[q][a];
     }
     // ScGeom: normal, penetration (one division for the normal and McNamara's alpha).
     const double dist = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
@@ -43,7 +46,7 @@ MPMDEM_SIMD_CLONES void contact_loop(std::size_t m, const LawConstants& kc,
     // dt/2 (prev . (w1 + w2)) prev (zero for a new contact: prev = 0).
     const double p[3] = {nx[j], ny[j], nz[j]};
     double w1[3], w2[3];
-    for (int q = 0; q < 3; ++q) w1[q] = ang[a + q], w2[q] = ang[b + q];
+    for (int q = 0; q < 3; ++q) w1[q] = ang[q][a], w2[q] = ang[q][b];
     const double ax[3] = {p[1] * n[2] - p[2] * n[1], p[2] * n[0] - p[0] * n[2],
                           p[0] * n[1] - p[1] * n[0]};
     const double angle =
@@ -56,7 +59,7 @@ MPMDEM_SIMD_CLONES void contact_loop(std::size_t m, const LawConstants& kc,
     for (int q = 0; q < 3; ++q) u[q] = r1 * w1[q] + r2 * w2[q];
     const double uxn[3] = {u[1] * n[2] - u[2] * n[1], u[2] * n[0] - u[0] * n[2],
                            u[0] * n[1] - u[1] * n[0]};
-    for (int q = 0; q < 3; ++q) rel[q] = (vel[b + q] - vel[a + q] + sv[q]) * alpha - uxn[q];
+    for (int q = 0; q < 3; ++q) rel[q] = (vel[q][b] - vel[q][a] + sv[q]) * alpha - uxn[q];
     const double rn = n[0] * rel[0] + n[1] * rel[1] + n[2] * rel[2];
     double inc[3];
     for (int q = 0; q < 3; ++q) inc[q] = (rel[q] - rn * n[q]) * k.dt;
@@ -147,7 +150,9 @@ void update_contacts(RveState& s, const LawConstants& k, std::size_t k0, std::si
   contact_loop(m, k, &st, c.normal.c[0].data() + k0, c.normal.c[1].data() + k0,
                c.normal.c[2].data() + k0, c.shear_force.c[0].data() + k0,
                c.shear_force.c[1].data() + k0, c.shear_force.c[2].data() + k0,
-               c.penetration.data() + k0, sp.pos[0].data(), sp.vel[0].data(), sp.ang_vel[0].data(),
+               c.penetration.data() + k0, sp.pos.c[0].data(), sp.pos.c[1].data(),
+               sp.pos.c[2].data(), sp.vel.c[0].data(), sp.vel.c[1].data(), sp.vel.c[2].data(),
+               sp.ang_vel.c[0].data(), sp.ang_vel.c[1].data(), sp.ang_vel.c[2].data(),
                sp.radius.data(), &out);
 }
 

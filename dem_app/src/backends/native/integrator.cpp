@@ -12,20 +12,32 @@ namespace mpmdem::dem::native {
 namespace {
 
 // Adds the outputs of contacts [k0, k0 + m) to their spheres in contact order, skipping the
-// contacts that opened.
+// contacts that opened (restrict: the six sphere arrays do not alias, so the compiler keeps
+// each contact's values in registers).
+void scatter_arrays(std::size_t m, const std::uint32_t* __restrict id1,
+                    const std::uint32_t* __restrict id2, const double* __restrict pen,
+                    const ContactOut& __restrict out, double* __restrict f0, double* __restrict f1,
+                    double* __restrict f2, double* __restrict t0, double* __restrict t1,
+                    double* __restrict t2) {
+  for (std::size_t j = 0; j < m; ++j) {
+    if (pen[j] < 0) continue;
+    const std::uint32_t a = id1[j], b = id2[j];
+    const double fx = out.f[0][j], fy = out.f[1][j], fz = out.f[2][j];
+    const double ax = out.t1[0][j], ay = out.t1[1][j], az = out.t1[2][j];
+    const double bx = out.t2[0][j], by = out.t2[1][j], bz = out.t2[2][j];
+    f0[a] += fx, f1[a] += fy, f2[a] += fz;
+    t0[a] += ax, t1[a] += ay, t2[a] += az;
+    f0[b] -= fx, f1[b] -= fy, f2[b] -= fz;
+    t0[b] += bx, t1[b] += by, t2[b] += bz;
+  }
+}
+
 void scatter(RveState& s, std::size_t k0, std::size_t m, const ContactOut& out) {
   auto& c = s.contacts;
   auto& sp = s.spheres;
-  for (std::size_t j = 0; j < m; ++j) {
-    const std::size_t k = k0 + j;
-    if (c.penetration[k] < 0) continue;
-    const std::uint32_t a = c.id1[k], b = c.id2[k];
-    const Vec3 f(out.f[0][j], out.f[1][j], out.f[2][j]);
-    sp.force[a] += f;
-    sp.force[b] -= f;
-    sp.torque[a] += Vec3(out.t1[0][j], out.t1[1][j], out.t1[2][j]);
-    sp.torque[b] += Vec3(out.t2[0][j], out.t2[1][j], out.t2[2][j]);
-  }
+  scatter_arrays(m, c.id1.data() + k0, c.id2.data() + k0, c.penetration.data() + k0, out,
+                 sp.force.c[0].data(), sp.force.c[1].data(), sp.force.c[2].data(),
+                 sp.torque.c[0].data(), sp.torque.c[1].data(), sp.torque.c[2].data());
 }
 
 }  // namespace
@@ -33,8 +45,9 @@ void scatter(RveState& s, std::size_t k0, std::size_t m, const ContactOut& out) 
 void compute_forces(RveState& s, NeighbourList& nl) {
   auto& sp = s.spheres;
   sp.prepare_scratch();  // released between coupling steps
-  std::fill(sp.force.begin(), sp.force.end(), Vec3::Zero());
-  std::fill(sp.torque.begin(), sp.torque.end(), Vec3::Zero());
+  for (auto* v : {&sp.force, &sp.torque}) {
+    for (auto& x : v->c) std::fill(x.begin(), x.end(), 0.0);
+  }
   nl.ensure(s);
   auto& c = s.contacts;
   const LawConstants law = law_constants(s);
@@ -63,12 +76,13 @@ void compute_forces(RveState& s, NeighbourList& nl) {
   // New contacts: pairs of the Verlet list without a contact that now overlap.
   for (std::uint32_t a = 0; a < sp.size(); ++a) {
     const std::size_t row_end = nl.row_begin(a + 1);
+    const Vec3 xa = sp.pos[a];
     for (std::size_t p = nl.row_begin(a); p < row_end; ++p) {
       if (nl.pair_in_contact(p)) continue;
       const std::uint32_t b = nl.pair_j(p);
       const bool zero = nl.pair_cell_zero(p);
-      const Vec3 d =
-          (zero ? sp.pos[b] : Vec3(sp.pos[b] + s.cell.shift(nl.pair_cell(p)))) - sp.pos[a];
+      const Vec3 xb = sp.pos[b];
+      const Vec3 d = (zero ? xb : Vec3(xb + s.cell.shift(nl.pair_cell(p)))) - xa;
       const double r = sp.radius[a] + sp.radius[b];
       if (r * r - d.squaredNorm() < 0) continue;           // Ig2_Sphere_Sphere_ScGeom's test
       const std::size_t k = c.add(a, b, nl.pair_cell(p));  // zero normal and shear force

@@ -29,19 +29,21 @@ MPMDEM_SIMD_CLONES void contributions(std::size_t m, const double (&h)[3][3], do
                                       const double* __restrict nx, const double* __restrict ny,
                                       const double* __restrict nz, const double* __restrict sx,
                                       const double* __restrict sy, const double* __restrict sz,
-                                      const double* __restrict pen, const double* __restrict pos,
+                                      const double* __restrict pen, const double* __restrict x0,
+                                      const double* __restrict x1, const double* __restrict x2,
                                       const double* __restrict rad, Contributions* __restrict out) {
+  const double* const pos[3] = {x0, x1, x2};
   for (std::size_t k = 0; k < m; ++k) {
-    const std::int64_t a = 3 * st->a[k], b = 3 * st->b[k];
+    const std::int64_t a = st->a[k], b = st->b[k];
     const double c[3] = {st->c[0][k], st->c[1][k], st->c[2][k]};
     const double n[3] = {nx[k], ny[k], nz[k]};
     const double fs[3] = {sx[k], sy[k], sz[k]};
     // l = x2 + H c - x1 (branch vector 1 -> 2); Love-Weber's branch is -l.
     double l[3];
     for (int q = 0; q < 3; ++q) {
-      l[q] = (pos[b + q] + (h[q][0] * c[0] + h[q][1] * c[1] + h[q][2] * c[2])) - pos[a + q];
+      l[q] = (pos[q][b] + (h[q][0] * c[0] + h[q][1] * c[1] + h[q][2] * c[2])) - pos[q][a];
     }
-    const double e1 = young * rad[st->a[k]], e2 = young * rad[st->b[k]];
+    const double e1 = young * rad[a], e2 = young * rad[b];
     const double kn = 2 * e1 * e2 / (e1 + e2);
     const double ks = ks_kn * kn;
     const double fn_mag = kn * std::max(pen[k], 0.0);
@@ -77,7 +79,6 @@ void add_to_lanes(double (&lanes)[kTerms][kLanes], const Contributions& out, std
 
 StressStiffness stress_and_stiffness(const RveState& s, bool stiffness) {
   const auto& c = s.contacts;
-  const double* pos = s.spheres.pos.empty() ? nullptr : s.spheres.pos[0].data();
   double h[3][3];
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b) h[a][b] = s.cell.hsize(a, b);
@@ -90,7 +91,8 @@ StressStiffness stress_and_stiffness(const RveState& s, bool stiffness) {
     contributions(m, h, s.material.young, s.material.ks_kn, &st, c.normal.c[0].data() + k0,
                   c.normal.c[1].data() + k0, c.normal.c[2].data() + k0,
                   c.shear_force.c[0].data() + k0, c.shear_force.c[1].data() + k0,
-                  c.shear_force.c[2].data() + k0, c.penetration.data() + k0, pos,
+                  c.shear_force.c[2].data() + k0, c.penetration.data() + k0,
+                  s.spheres.pos.c[0].data(), s.spheres.pos.c[1].data(), s.spheres.pos.c[2].data(),
                   s.spheres.radius.data(), &out);
     add_to_lanes(lanes, out, m);
   }
@@ -168,7 +170,7 @@ double unbalanced_force(const RveState& s) {
   const auto& c = s.contacts;
   if (sp.size() == 0 || c.size() == 0 || sp.force.size() != sp.size()) return 0.0;
   double body = 0, contact = 0;
-  for (const auto& f : sp.force) body += f.norm();
+  for (std::size_t i = 0; i < sp.size(); ++i) body += sp.force[i].norm();
   for (std::size_t k = 0; k < c.size(); ++k) {
     contact += (normal_force(s, k) + c.shear_force[k]).norm();
   }

@@ -50,20 +50,22 @@ inline double damp(double damping, double half_dt, double vel, double accel) {
 }
 
 void load(const Spheres& sp, std::size_t i0, int m, Block& b) {
-  for (int j = 0; j < kBlock; ++j) {
-    const bool in = j < m;
-    const std::size_t i = in ? i0 + j : i0;
-    for (int a = 0; a < 3; ++a) {
-      b.x[a][j] = in ? sp.pos[i][a] : 0.0;
-      b.v[a][j] = in ? sp.vel[i][a] : 0.0;
-      b.w[a][j] = in ? sp.ang_vel[i][a] : 0.0;
-      b.f[a][j] = in ? sp.force[i][a] : 0.0;
-      b.t[a][j] = in ? sp.torque[i][a] : 0.0;
+  for (int a = 0; a < 3; ++a) {
+    const double *x = sp.pos.c[a].data() + i0, *v = sp.vel.c[a].data() + i0;
+    const double *w = sp.ang_vel.c[a].data() + i0, *f = sp.force.c[a].data() + i0;
+    const double* t = sp.torque.c[a].data() + i0;
+    for (int j = 0; j < m; ++j) {
+      b.x[a][j] = x[j], b.v[a][j] = v[j], b.w[a][j] = w[j], b.f[a][j] = f[j], b.t[a][j] = t[j];
     }
-    const Quat o = in ? sp.ori[i] : Quat::Identity();
+    for (int j = m; j < kBlock; ++j) {
+      b.x[a][j] = 0.0, b.v[a][j] = 0.0, b.w[a][j] = 0.0, b.f[a][j] = 0.0, b.t[a][j] = 0.0;
+    }
+  }
+  for (int j = 0; j < kBlock; ++j) {
+    const Quat o = j < m ? sp.ori[i0 + j] : Quat::Identity();
     b.q[0][j] = o.w(), b.q[1][j] = o.x(), b.q[2][j] = o.y(), b.q[3][j] = o.z();
-    b.inv_m[j] = in ? sp.inv_mass[i] : 0.0;
-    b.inv_i[j] = in ? sp.inv_inertia[i] : 0.0;
+    b.inv_m[j] = j < m ? sp.inv_mass[i0 + j] : 0.0;
+    b.inv_i[j] = j < m ? sp.inv_inertia[i0 + j] : 0.0;
   }
 }
 
@@ -142,13 +144,15 @@ void newton(RveState& s, double damping) {
     } else {
       advance(b, k);
     }
+    for (int a = 0; a < 3; ++a) {
+      double *x = sp.pos.c[a].data() + i0, *v = sp.vel.c[a].data() + i0;
+      double* w = sp.ang_vel.c[a].data() + i0;
+      for (int j = 0; j < m; ++j) x[j] = b.x[a][j], v[j] = b.v[a][j], w[j] = b.w[a][j];
+    }
     for (int j = 0; j < m; ++j) {
       const std::size_t i = i0 + j;
-      sp.pos[i] = Vec3(b.x[0][j], b.x[1][j], b.x[2][j]);
-      sp.vel[i] = Vec3(b.v[0][j], b.v[1][j], b.v[2][j]);
-      sp.ang_vel[i] = Vec3(b.w[0][j], b.w[1][j], b.w[2][j]);
       if (b.h2[j] >= kSeriesLimit) {  // rare: a fast spin, the exact rotation
-        const Vec3& w = sp.ang_vel[i];
+        const Vec3 w = sp.ang_vel[i];
         sp.ori[i] = (step_rotation(w, w.squaredNorm(), dt) * sp.ori[i]).normalized();
       } else {
         sp.ori[i] = Quat(b.q[0][j], b.q[1][j], b.q[2][j], b.q[3][j]);

@@ -22,9 +22,9 @@ void Spheres::resize(std::size_t n) {
   radius.resize(n);
   mass.resize(n);
   inertia.resize(n);
-  pos.resize(n, Vec3::Zero());
-  vel.resize(n, Vec3::Zero());
-  ang_vel.resize(n, Vec3::Zero());
+  pos.resize(n);
+  vel.resize(n);
+  ang_vel.resize(n);
   ori.resize(n, Quat::Identity());
   ref_ori.resize(n, Quat::Identity());
   release_forces();
@@ -49,7 +49,7 @@ void Spheres::push_back(double r, double m, double inertia_value, const Vec3& x)
   radius[n] = r;
   mass[n] = m;
   inertia[n] = inertia_value;
-  pos[n] = x;
+  pos.set(n, x);
 }
 
 namespace {
@@ -68,13 +68,14 @@ void fit_to(std::vector<T>& v, std::size_t n) {
 }  // namespace
 
 std::size_t Spheres::heap_bytes() const {
-  return cap(radius) + cap(mass) + cap(inertia) + cap(pos) + cap(vel) + cap(ang_vel) + cap(ori) +
-         cap(ref_ori) + cap(force) + cap(torque) + cap(inv_mass) + cap(inv_inertia);
+  return cap(radius) + cap(mass) + cap(inertia) + pos.capacity_bytes() + vel.capacity_bytes() +
+         ang_vel.capacity_bytes() + cap(ori) + cap(ref_ori) + force.capacity_bytes() +
+         torque.capacity_bytes() + cap(inv_mass) + cap(inv_inertia);
 }
 
 void Spheres::release_forces() {
-  std::vector<Vec3>().swap(force);
-  std::vector<Vec3>().swap(torque);
+  force.release();
+  torque.release();
   std::vector<double>().swap(inv_mass);
   std::vector<double>().swap(inv_inertia);
 }

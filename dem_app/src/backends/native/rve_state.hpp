@@ -1,6 +1,7 @@
 // The whole state of one native RVE, as a structure of arrays: one contiguous array per
-// field (xyz interleaved within a field), so a step streams through memory and the layout
-// maps onto one GPU thread block per RVE later. Nothing here allocates per step.
+// field, vector fields xyz split (Split3; quaternions interleaved), so a step streams through
+// memory and the layout maps onto one GPU thread block per RVE later. Nothing here allocates per
+// step.
 #pragma once
 
 #include <Eigen/Core>
@@ -18,6 +19,11 @@ using Vec3 = Eigen::Vector3d;
 using Quat = Eigen::Quaterniond;
 
 // FrictMat: the material of every sphere of an RVE (YADE's packings use one).
+// Image offset of a contact or Verlet pair (Interaction::cellDist), 6 bytes: |c| < 2^15
+// (to_cell_dist checks it).
+using CellDist = Eigen::Matrix<std::int16_t, 3, 1>;
+CellDist to_cell_dist(const Eigen::Vector3i& c);
+
 struct Material {
   double young = 6e8;         // contact modulus E [Pa]
   double ks_kn = 0.8;         // FrictMat.poisson: ks/kn in Ip2_FrictMat_FrictMat_FrictPhys
@@ -25,36 +31,14 @@ struct Material {
   double friction_angle = 0;  // [rad]; tan of it caps |Fs|/|Fn|
 };
 
-struct Spheres {
-  std::vector<double> radius, mass, inertia;  // per sphere [m], [kg], [kg m2]
-  std::vector<Vec3> pos, vel, ang_vel;        // unwrapped positions, as YADE keeps them
-  std::vector<Quat> ori, ref_ori;             // orientation, and the one rotation counts from
-  // Scratch of the DEM steps: force and torque (accumulated in a step), 1 / mass and
-  // 1 / inertia (for Newton). The backend releases them after each coupling step
-  // (release_forces; resize does too), compute_forces sizes them again (prepare_scratch), so
-  // a resident RVE does not keep them.
-  std::vector<Vec3> force, torque;
-  std::vector<double> inv_mass, inv_inertia;
-  std::size_t size() const { return radius.size(); }
-  void resize(std::size_t n);
-  void prepare_scratch();
-  void push_back(double r, double m, double inertia_value, const Vec3& x);
-  std::size_t heap_bytes() const;  // allocated capacity of all arrays
-  void release_forces();
-};
-
-// Image offset of a contact or Verlet pair (Interaction::cellDist), 6 bytes: |c| < 2^15
-// (to_cell_dist checks it).
-using CellDist = Eigen::Matrix<std::int16_t, 3, 1>;
-CellDist to_cell_dist(const Eigen::Vector3i& c);
-
-// A per-contact vector field stored xyz split: one contiguous array per component, so that
-// the contact loop reads and writes it with unit stride (and vectorises). V is the vector
-// type handed out (Vec3 or CellDist), T its scalar.
+// A per-sphere or per-contact vector field stored xyz split: one contiguous array per
+// component, so that the loops over spheres and contacts read and write it with unit stride
+// (and vectorise). V is the vector type handed out (Vec3 or CellDist), T its scalar.
 template <typename T, typename V>
 struct Split3 {
   std::vector<T> c[3];
-  V operator[](std::size_t k) const { return V(c[0][k], c[1][k], c[2][k]); }
+  // By value (const: assigning to it does not compile; use set).
+  const V operator[](std::size_t k) const { return V(c[0][k], c[1][k], c[2][k]); }
   void set(std::size_t k, const V& v) {
     for (int a = 0; a < 3; ++a) c[a][k] = v[a];
   }
@@ -71,9 +55,30 @@ struct Split3 {
     for (auto& x : c) x.resize(n);
   }
   std::size_t size() const { return c[0].size(); }
+  void release() {
+    for (auto& x : c) std::vector<T>().swap(x);
+  }
   std::size_t capacity_bytes() const {
     return (c[0].capacity() + c[1].capacity() + c[2].capacity()) * sizeof(T);
   }
+};
+
+struct Spheres {
+  std::vector<double> radius, mass, inertia;  // per sphere [m], [kg], [kg m2]
+  Split3<double, Vec3> pos, vel, ang_vel;     // unwrapped positions, as YADE keeps them
+  std::vector<Quat> ori, ref_ori;             // orientation, and the one rotation counts from
+  // Scratch of the DEM steps: force and torque (accumulated in a step), 1 / mass and
+  // 1 / inertia (for Newton). The backend releases them after each coupling step
+  // (release_forces; resize does too), compute_forces sizes them again (prepare_scratch), so
+  // a resident RVE does not keep them.
+  Split3<double, Vec3> force, torque;
+  std::vector<double> inv_mass, inv_inertia;
+  std::size_t size() const { return radius.size(); }
+  void resize(std::size_t n);
+  void prepare_scratch();
+  void push_back(double r, double m, double inertia_value, const Vec3& x);
+  std::size_t heap_bytes() const;  // allocated capacity of all arrays
+  void release_forces();
 };
 
 // Real contacts (Interaction with ScGeom + FrictPhys): body 2's image is pos2 + hsize * cell.

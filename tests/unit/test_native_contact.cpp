@@ -171,3 +171,24 @@ TEST(NativeContact, UndampedCollisionConservesEnergy) {
 }
 
 }  // namespace
+
+// Newton's rotation of a free sphere: the series path (h = dt |w| / 2 < 1e-3) and the exact
+// AngleAxis path of a fast spin both follow the closed form exp(t w) ori0.
+TEST(NativeContact, FreeSpinRotatesAsAngleAxis) {
+  RveState s = two_spheres(Vec3(0.01, 0.01, 0.01), Vec3(0.01, 0, 0));  // far apart
+  const Vec3 slow(30.0, -60.0, 80.0), fast(3e4, 2e4, -4e4);            // h = 5e-6 and 2.7e-3
+  s.spheres.ang_vel.set(0, slow);
+  s.spheres.ang_vel.set(1, fast);
+  const Quat ori0(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()));
+  s.spheres.ori[0] = s.spheres.ori[1] = ori0;
+  NeighbourList nl;
+  const int steps = 50;
+  for (int k = 0; k < steps; ++k) dem_step(s, nl, 0.0);
+  EXPECT_EQ(s.contacts.size(), 0u);
+  for (int i = 0; i < 2; ++i) {
+    const Vec3 w = i == 0 ? slow : fast;
+    EXPECT_EQ(s.spheres.ang_vel[i], w);
+    const Quat expected = Quat(Eigen::AngleAxisd(steps * s.dt * w.norm(), w.normalized())) * ori0;
+    EXPECT_LT(s.spheres.ori[i].angularDistance(expected), 1e-12) << "sphere " << i;
+  }
+}

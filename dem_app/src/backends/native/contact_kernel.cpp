@@ -81,8 +81,11 @@ MPMDEM_SIMD_CLONES void contact_loop(
     const double fn[3] = {fn_mag * n[0], fn_mag * n[1], fn_mag * n[2]};
     const double max_fs = (fn[0] * fn[0] + fn[1] * fn[1] + fn[2] * fn[2]) * k.tan2;
     const double fs2 = fs[0] * fs[0] + fs[1] * fs[1] + fs[2] * fs[2];
-    const double ratio = std::sqrt(max_fs) / std::sqrt(fs2);  // used only when capped
-    const double scale = fs2 > max_fs ? ratio : 1.0;
+    // Coulomb: fs *= sqrt(max_fs) / |fs| if fs2 > max_fs. The ratio is below 1 exactly then
+    // (sqrt and division are monotonic; 0/0 is NaN, not below 1), so the test on it is the
+    // same and the division is not moved into a branch (which would stop the vectorisation).
+    const double ratio = std::sqrt(max_fs) / std::sqrt(fs2);
+    const double scale = ratio < 1.0 ? ratio : 1.0;
     for (int q = 0; q < 3; ++q) fs[q] *= scale;
     // Force on sphere 1, torques n x f with the branches r - pen / 2.
     const double f[3] = {-fn[0] - fs[0], -fn[1] - fs[1], -fn[2] - fs[2]};

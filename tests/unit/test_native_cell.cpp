@@ -57,7 +57,7 @@ TEST(NativeCell, TilingDoublesAThinCellExactly) {
   s.spheres.push_back(1e-3, m, 0.4 * m * 1e-6, Vec3(5e-3, 5e-3, 1e-3));
   s.spheres.push_back(1e-3, m, 0.4 * m * 1e-6, Vec3(5e-3 + 1.999e-3, 5e-3, 1e-3));
   s.cell.vel_grad(2, 2) = -1.0;
-  s.spheres.vel[0] = Vec3(0, 0, -1e-3);
+  s.spheres.vel.set(0, Vec3(0, 0, -1e-3));
   s.dt = 1e-7;
   NeighbourList nl;
   compute_forces(s, nl);

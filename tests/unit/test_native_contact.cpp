@@ -88,7 +88,7 @@ TEST(NativeContact, ShearSpringSlidesAtTheCoulombLimit) {
   const Vec3 n(0, 0, 1);
   RveState s = two_spheres(Vec3::Constant(0.02), (2 * kR - kDelta) * n);
   const double v = 0.1;  // the spring reaches the cap after ~65 steps
-  s.spheres.vel[1] = Vec3(v, 0, 0);
+  s.spheres.vel.set(1, Vec3(v, 0, 0));
   NeighbourList nl;
   const double kn = kE * kR, ks = kKsKn * kn;
   const double alpha = 2 * kR / (2 * kR - kDelta);
@@ -123,18 +123,19 @@ TEST(NativeContact, ShearSpringTurnsWithARigidRotationOfThePair) {
     NeighbourList nl;
     compute_forces(s, nl);  // the contact exists, without shear force
     const Vec3 fs0(0, 2e-4, 1e-4);
-    s.contacts.shear_force[0] = fs0;
+    s.contacts.shear_force.set(0, fs0);
     const int steps = 1000;
     const double total = 0.1, dphi = total / steps;
     const Vec3 w = axis * dphi / s.dt;
     const Vec3 x1 = s.spheres.pos[0] - c, x2 = s.spheres.pos[1] - c;
     for (int k = 1; k <= steps; ++k) {
       const Eigen::Matrix3d rot = Eigen::AngleAxisd(k * dphi, axis).toRotationMatrix();
-      s.spheres.pos[0] = c + rot * x1;
-      s.spheres.pos[1] = c + rot * x2;
-      s.spheres.vel[0] = w.cross(rot * x1);
-      s.spheres.vel[1] = w.cross(rot * x2);
-      s.spheres.ang_vel[0] = s.spheres.ang_vel[1] = w;
+      s.spheres.pos.set(0, c + rot * x1);
+      s.spheres.pos.set(1, c + rot * x2);
+      s.spheres.vel.set(0, w.cross(rot * x1));
+      s.spheres.vel.set(1, w.cross(rot * x2));
+      s.spheres.ang_vel.set(0, w);
+      s.spheres.ang_vel.set(1, w);
       compute_forces(s, nl);
     }
     const Vec3 expected = Eigen::AngleAxisd(total, axis) * fs0;
@@ -151,8 +152,8 @@ TEST(NativeContact, UndampedCollisionConservesEnergy) {
   const Vec3 n(0, 1, 0);
   RveState s = two_spheres(Vec3::Constant(0.02), (2 * kR + 1e-7) * n);
   const double v = 0.05;
-  s.spheres.vel[0] = 0.5 * v * n;
-  s.spheres.vel[1] = -0.5 * v * n;
+  s.spheres.vel.set(0, 0.5 * v * n);
+  s.spheres.vel.set(1, -0.5 * v * n);
   const double m = s.spheres.mass[0];
   const double e0 = 2 * 0.5 * m * (0.5 * v) * (0.5 * v);
   NeighbourList nl;
@@ -170,3 +171,24 @@ TEST(NativeContact, UndampedCollisionConservesEnergy) {
 }
 
 }  // namespace
+
+// Newton's rotation of a free sphere: the series path (h = dt |w| / 2 < 1e-3) and the exact
+// AngleAxis path of a fast spin both follow the closed form exp(t w) ori0.
+TEST(NativeContact, FreeSpinRotatesAsAngleAxis) {
+  RveState s = two_spheres(Vec3(0.01, 0.01, 0.01), Vec3(0.01, 0, 0));  // far apart
+  const Vec3 slow(30.0, -60.0, 80.0), fast(3e4, 2e4, -4e4);            // h = 5e-6 and 2.7e-3
+  s.spheres.ang_vel.set(0, slow);
+  s.spheres.ang_vel.set(1, fast);
+  const Quat ori0(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()));
+  s.spheres.ori[0] = s.spheres.ori[1] = ori0;
+  NeighbourList nl;
+  const int steps = 50;
+  for (int k = 0; k < steps; ++k) dem_step(s, nl, 0.0);
+  EXPECT_EQ(s.contacts.size(), 0u);
+  for (int i = 0; i < 2; ++i) {
+    const Vec3 w = i == 0 ? slow : fast;
+    EXPECT_EQ(s.spheres.ang_vel[i], w);
+    const Quat expected = Quat(Eigen::AngleAxisd(steps * s.dt * w.norm(), w.normalized())) * ori0;
+    EXPECT_LT(s.spheres.ori[i].angularDistance(expected), 1e-12) << "sphere " << i;
+  }
+}

@@ -72,7 +72,9 @@ TEST(NativeNeighbourList, FindsExactlyTheAllPairsContactsUnderRandomDeformation)
   // Dense: shrink the loose cloud homogeneously to porosity ~0.5 (overlaps everywhere).
   const double shrink = 0.8;
   s.cell.hsize *= shrink;
-  for (auto& x : s.spheres.pos) x *= shrink;
+  for (auto& x : s.spheres.pos.c) {
+    for (double& v : x) v *= shrink;
+  }
   NeighbourList nl(0.5);
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -85,11 +87,12 @@ TEST(NativeNeighbourList, FindsExactlyTheAllPairsContactsUnderRandomDeformation)
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b) df(a, b) += 1e-3 * u(rng);
     s.cell.hsize = df * s.cell.hsize;
-    for (auto& x : s.spheres.pos) {
-      x = df * x + 0.01 * r_min * Vec3(u(rng), u(rng), u(rng));
+    for (std::size_t i = 0; i < s.spheres.size(); ++i) {
+      s.spheres.pos.set(i, df * s.spheres.pos[i] + 0.01 * r_min * Vec3(u(rng), u(rng), u(rng)));
     }
     if (k == steps / 2) {  // one large jump of a few spheres: must force a rebuild
-      for (std::size_t i = 0; i < 5; ++i) s.spheres.pos[i] += 0.3 * r_min * Vec3(1, -1, 0.5);
+      for (std::size_t i = 0; i < 5; ++i)
+        s.spheres.pos.set(i, s.spheres.pos[i] + 0.3 * r_min * Vec3(1, -1, 0.5));
     }
     nl.ensure(s);
     const std::set<Key> expected = all_pairs(s), found = list_pairs(s, nl);

@@ -9,7 +9,10 @@ namespace mpmdem::dem::native {
 
 namespace {
 
-constexpr char kMagic[8] = {'M', 'P', 'M', 'D', 'N', 'A', 'T', '4'};
+// NAT5: sphere and contact vector fields xyz split (one array per component). NAT4
+// (interleaved) is still read.
+constexpr char kMagic[8] = {'M', 'P', 'M', 'D', 'N', 'A', 'T', '5'};
+constexpr char kMagicNat4[8] = {'M', 'P', 'M', 'D', 'N', 'A', 'T', '4'};
 
 class Out {
  public:
@@ -23,6 +26,10 @@ class Out {
     static_assert(std::is_standard_layout_v<T>);
     put<std::uint64_t>(v.size());
     buf_.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+  }
+  template <typename T, typename V>
+  void put_split(const Split3<T, V>& v) {
+    for (const auto& f : v.c) put_vector(f);
   }
   std::string take() { return std::move(buf_); }
 
@@ -47,6 +54,19 @@ class In {
     v.resize(n);
     if (n) std::memcpy(static_cast<void*>(v.data()), b_.data() + at_, n * sizeof(T));
     at_ += n * sizeof(T);
+  }
+  // NAT5: three arrays; NAT4 (interleaved): one array of vectors.
+  template <typename T, typename V>
+  void get_split(Split3<T, V>& v, bool interleaved) {
+    if (!interleaved) {
+      for (auto& f : v.c) get_vector(f);
+      if (v.c[1].size() != v.c[0].size() || v.c[2].size() != v.c[0].size()) fail();
+      return;
+    }
+    std::vector<V> w;
+    get_vector(w);
+    v.resize(w.size());
+    for (std::size_t k = 0; k < w.size(); ++k) v.set(k, w[k]);
   }
   bool done() const { return at_ == b_.size(); }
   [[noreturn]] static void fail() {
@@ -84,11 +104,11 @@ std::string encode(const RveRecord& r) {
   o.put(s.iter);
   const Spheres& sp = s.spheres;
   o.put_vector(sp.radius), o.put_vector(sp.mass), o.put_vector(sp.inertia);
-  o.put_vector(sp.pos), o.put_vector(sp.vel), o.put_vector(sp.ang_vel);
+  o.put_split(sp.pos), o.put_split(sp.vel), o.put_split(sp.ang_vel);
   o.put_vector(sp.ori), o.put_vector(sp.ref_ori);
   const Contacts& c = s.contacts;
-  o.put_vector(c.id1), o.put_vector(c.id2), o.put_vector(c.cell);
-  o.put_vector(c.normal), o.put_vector(c.shear_force);
+  o.put_vector(c.id1), o.put_vector(c.id2);
+  o.put_split(c.cell), o.put_split(c.normal), o.put_split(c.shear_force);
   o.put_vector(c.penetration);
   o.put(r.point);
   o.put(r.p0);
@@ -102,7 +122,8 @@ RveRecord decode(const std::string& blob) {
   In in(blob);
   char magic[8];
   for (char& c : magic) in.get(c);
-  if (std::memcmp(magic, kMagic, sizeof magic) != 0) In::fail();
+  const bool nat4 = std::memcmp(magic, kMagicNat4, sizeof magic) == 0;
+  if (!nat4 && std::memcmp(magic, kMagic, sizeof magic) != 0) In::fail();
   RveRecord r;
   RveState& s = r.state;
   cell_fields(in, s.cell);
@@ -111,11 +132,11 @@ RveRecord decode(const std::string& blob) {
   in.get(s.iter);
   Spheres& sp = s.spheres;
   in.get_vector(sp.radius), in.get_vector(sp.mass), in.get_vector(sp.inertia);
-  in.get_vector(sp.pos), in.get_vector(sp.vel), in.get_vector(sp.ang_vel);
+  in.get_split(sp.pos, nat4), in.get_split(sp.vel, nat4), in.get_split(sp.ang_vel, nat4);
   in.get_vector(sp.ori), in.get_vector(sp.ref_ori);
   Contacts& c = s.contacts;
-  in.get_vector(c.id1), in.get_vector(c.id2), in.get_vector(c.cell);
-  in.get_vector(c.normal), in.get_vector(c.shear_force);
+  in.get_vector(c.id1), in.get_vector(c.id2);
+  in.get_split(c.cell, nat4), in.get_split(c.normal, nat4), in.get_split(c.shear_force, nat4);
   in.get_vector(c.penetration);
   in.get(r.point);
   in.get(r.p0);

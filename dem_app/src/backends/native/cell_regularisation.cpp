@@ -11,11 +11,12 @@ bool flip_cell(RveState& s, NeighbourList& nl) {
   if (m == Eigen::Matrix3i::Identity()) return false;
   // hsize_new = hsize_old M: the image H_old c is H_new M^-1 c (M is unimodular).
   const Eigen::Matrix3d inv = m.cast<double>().inverse();
-  for (auto& c : s.contacts.cell) {
-    const Eigen::Vector3d v = inv * c.cast<double>();
-    c = to_cell_dist(Eigen::Vector3i(static_cast<int>(std::lround(v[0])),
-                                     static_cast<int>(std::lround(v[1])),
-                                     static_cast<int>(std::lround(v[2]))));
+  auto& cells = s.contacts.cell;
+  for (std::size_t k = 0; k < cells.size(); ++k) {
+    const Eigen::Vector3d v = inv * cells[k].cast<double>();
+    cells.set(k, to_cell_dist(Eigen::Vector3i(static_cast<int>(std::lround(v[0])),
+                                              static_cast<int>(std::lround(v[1])),
+                                              static_cast<int>(std::lround(v[2])))));
   }
   nl.invalidate();
   return true;
@@ -39,9 +40,9 @@ int tile_if_thin(RveState& s, NeighbourList& nl) {
     sp.radius[c] = sp.radius[k];
     sp.mass[c] = sp.mass[k];
     sp.inertia[c] = sp.inertia[k];
-    sp.pos[c] = sp.pos[k] + shift;
-    sp.vel[c] = sp.vel[k] + l * shift;
-    sp.ang_vel[c] = sp.ang_vel[k];
+    sp.pos.set(c, sp.pos[k] + shift);
+    sp.vel.set(c, sp.vel[k] + l * shift);
+    sp.ang_vel.set(c, sp.ang_vel[k]);
     sp.ori[c] = sp.ori[k];
     sp.ref_ori[c] = sp.ref_ori[k];
   }

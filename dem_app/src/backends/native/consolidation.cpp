@@ -59,8 +59,8 @@ void finish_preparation(RveState& s, NeighbourList& nl, double damping) {
   auto& sp = s.spheres;
   for (std::size_t i = 0; i < sp.size(); ++i) {
     sp.ref_ori[i] = sp.ori[i];
-    sp.vel[i].setZero();
-    sp.ang_vel[i].setZero();
+    sp.vel.set(i, Vec3::Zero());
+    sp.ang_vel.set(i, Vec3::Zero());
   }
 }
 

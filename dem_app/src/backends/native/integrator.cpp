@@ -3,36 +3,41 @@
 
 #include <cmath>
 
-#include "backends/native/contact_law.hpp"
+#include <algorithm>
+
+#include "backends/native/contact_kernel.hpp"
 
 namespace mpmdem::dem::native {
 
 namespace {
 
-// Updates contact k with ScGeom + CundallStrack; false when it opened (YADE erases it).
-inline bool update_contact(RveState& s, std::size_t k, bool is_new, double tan_phi) {
+// Adds the outputs of contacts [k0, k0 + m) to their spheres in contact order, skipping the
+// contacts that opened (restrict: the six sphere arrays do not alias, so the compiler keeps
+// each contact's values in registers).
+void scatter_arrays(std::size_t m, const std::uint32_t* __restrict id1,
+                    const std::uint32_t* __restrict id2, const double* __restrict pen,
+                    const ContactOut& __restrict out, double* __restrict f0, double* __restrict f1,
+                    double* __restrict f2, double* __restrict t0, double* __restrict t1,
+                    double* __restrict t2) {
+  for (std::size_t j = 0; j < m; ++j) {
+    if (pen[j] < 0) continue;
+    const std::uint32_t a = id1[j], b = id2[j];
+    const double fx = out.f[0][j], fy = out.f[1][j], fz = out.f[2][j];
+    const double ax = out.t1[0][j], ay = out.t1[1][j], az = out.t1[2][j];
+    const double bx = out.t2[0][j], by = out.t2[1][j], bz = out.t2[2][j];
+    f0[a] += fx, f1[a] += fy, f2[a] += fz;
+    t0[a] += ax, t1[a] += ay, t2[a] += az;
+    f0[b] -= fx, f1[b] -= fy, f2[b] -= fz;
+    t0[b] += bx, t1[b] += by, t2[b] += bz;
+  }
+}
+
+void scatter(RveState& s, std::size_t k0, std::size_t m, const ContactOut& out) {
   auto& c = s.contacts;
   auto& sp = s.spheres;
-  const std::uint32_t a = c.id1[k], b = c.id2[k];
-  // Most contacts lie inside the cell (cellDist 0): no image shift to compute (adding the
-  // zero shift would change no bit).
-  const bool image = c.cell[k] != CellDist::Zero();
-  const Vec3 x2 = image ? Vec3(sp.pos[b] + s.cell.shift(c.cell[k])) : sp.pos[b];
-  const Vec3 shift_vel = image ? s.cell.shift_vel(c.cell[k]) : Vec3::Zero();
-  const ScGeom g = sc_geom(sp.pos[a], x2, sp.radius[a], sp.radius[b], sp.vel[a], sp.vel[b],
-                           sp.ang_vel[a], sp.ang_vel[b], shift_vel, c.normal[k], is_new, s.dt);
-  c.normal[k] = g.normal;
-  c.penetration[k] = g.penetration;
-  if (g.penetration < 0) return false;
-  FrictPhys phys = contact_stiffness(s, k);
-  phys.tan_phi = tan_phi;
-  const Vec3 f = cundall_strack(g, phys, c.shear_force[k]);
-  const Vec3 nf = g.normal.cross(f);
-  sp.force[a] += f;
-  sp.force[b] -= f;
-  sp.torque[a] += (sp.radius[a] - 0.5 * g.penetration) * nf;
-  sp.torque[b] += (sp.radius[b] - 0.5 * g.penetration) * nf;
-  return true;
+  scatter_arrays(m, c.id1.data() + k0, c.id2.data() + k0, c.penetration.data() + k0, out,
+                 sp.force.c[0].data(), sp.force.c[1].data(), sp.force.c[2].data(),
+                 sp.torque.c[0].data(), sp.torque.c[1].data(), sp.torque.c[2].data());
 }
 
 }  // namespace
@@ -40,37 +45,54 @@ inline bool update_contact(RveState& s, std::size_t k, bool is_new, double tan_p
 void compute_forces(RveState& s, NeighbourList& nl) {
   auto& sp = s.spheres;
   sp.prepare_scratch();  // released between coupling steps
-  for (std::size_t i = 0; i < sp.size(); ++i) {
-    sp.force[i].setZero();
-    sp.torque[i].setZero();
+  for (auto* v : {&sp.force, &sp.torque}) {
+    for (auto& x : v->c) std::fill(x.begin(), x.end(), 0.0);
   }
   nl.ensure(s);
   auto& c = s.contacts;
-  const double tan_phi = std::tan(s.material.friction_angle);  // one material per RVE
-  for (std::size_t k = 0; k < c.size();) {
-    if (update_contact(s, k, false, tan_phi)) {
-      ++k;
-      continue;
-    }
-    nl.contact_removed(c, k);
-    c.swap_remove(k);
+  const LawConstants law = law_constants(s);
+  ContactOut out;
+  // Existing contacts, a chunk at a time: update (vectorised), then forces in contact order.
+  bool opened = false;
+  for (std::size_t k0 = 0; k0 < c.size(); k0 += kContactChunk) {
+    const std::size_t m = std::min(kContactChunk, c.size() - k0);
+    update_contacts(s, law, k0, m, out);
+    scatter(s, k0, m, out);
+    for (std::size_t j = 0; j < m; ++j) opened |= c.penetration[k0 + j] < 0;
   }
+  // Contacts that opened are removed (YADE erases them), keeping the others' order.
+  if (opened) {
+    std::size_t kept = 0;
+    for (std::size_t k = 0; k < c.size(); ++k) {
+      if (c.penetration[k] < 0) {
+        nl.contact_removed(c, k);
+        continue;
+      }
+      if (kept != k) c.move(k, kept);
+      ++kept;
+    }
+    c.truncate(kept);
+  }
+  // New contacts: pairs of the Verlet list without a contact that now overlap.
   for (std::uint32_t a = 0; a < sp.size(); ++a) {
     const std::size_t row_end = nl.row_begin(a + 1);
+    const Vec3 xa = sp.pos[a];
     for (std::size_t p = nl.row_begin(a); p < row_end; ++p) {
       if (nl.pair_in_contact(p)) continue;
       const std::uint32_t b = nl.pair_j(p);
       const bool zero = nl.pair_cell_zero(p);
-      const Vec3 d =
-          (zero ? sp.pos[b] : Vec3(sp.pos[b] + s.cell.shift(nl.pair_cell(p)))) - sp.pos[a];
+      const Vec3 xb = sp.pos[b];
+      const Vec3 d = (zero ? xb : Vec3(xb + s.cell.shift(nl.pair_cell(p)))) - xa;
       const double r = sp.radius[a] + sp.radius[b];
-      if (r * r - d.squaredNorm() < 0) continue;  // Ig2_Sphere_Sphere_ScGeom's test
-      const std::size_t k = c.add(a, b, nl.pair_cell(p));
-      if (update_contact(s, k, true, tan_phi)) {
-        nl.contact_added(p);
-      } else {
+      if (r * r - d.squaredNorm() < 0) continue;           // Ig2_Sphere_Sphere_ScGeom's test
+      const std::size_t k = c.add(a, b, nl.pair_cell(p));  // zero normal and shear force
+      update_contacts(s, law, k, 1, out);
+      if (c.penetration[k] < 0) {
         c.swap_remove(k);
+        continue;
       }
+      scatter(s, k, 1, out);
+      nl.contact_added(p);
     }
   }
 }

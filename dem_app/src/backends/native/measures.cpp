@@ -1,48 +1,120 @@
 // RVE measures as YADE's utils compute them: see measures.hpp.
 #include "backends/native/measures.hpp"
 
+#include <algorithm>
 #include <cmath>
+
+#include "backends/native/contact_kernel.hpp"
+#include "backends/native/simd_clones.hpp"
 
 namespace mpmdem::dem::native {
 
-StressStiffness stress_and_stiffness(const RveState& s, bool stiffness) {
-  Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
-  Vec3 cii = Vec3::Zero(), si = Vec3::Zero();
-  const auto& c = s.contacts;
-  const auto& pos = s.spheres.pos;
-  for (std::size_t k = 0; k < c.size(); ++k) {
-    // Branch x1 - x2 - H c (and l = x2 + H c - x1 for the bound): most contacts lie inside
-    // the cell, where the zero shift changes no bit.
-    const bool image = c.cell[k] != CellDist::Zero();
-    const Vec3 shift = image ? s.cell.shift(c.cell[k]) : Vec3::Zero();
-    const Vec3 x1 = pos[c.id1[k]], x2 = pos[c.id2[k]];
-    const Vec3 branch = image ? Vec3(x1 - x2 - shift) : Vec3(x1 - x2);
-    const FrictPhys phys = contact_stiffness(s, k);
-    const Vec3 fn = phys.kn * std::max(c.penetration[k], 0.0) * c.normal[k];
-    sum += (fn + c.shear_force[k]) * branch.transpose();
-    if (!stiffness) continue;
-    const Vec3 l = image ? Vec3(x2 + shift - x1) : Vec3(-branch);
-    const double l2 = l.squaredNorm();
-    const Vec3& n = c.normal[k];
-    const double fs2 = c.shear_force[k].squaredNorm();
-    const double inv_fs2 = fs2 > 0 ? 1 / fs2 : 0.0;  // t_i^2 = fs_i^2 / |fs|^2
+namespace {
+
+// Love-Weber sum and the stiffness sums over the contacts in kLanes interleaved partial sums
+// (contact k goes to lane k mod kLanes), added up lane by lane at the end. The contributions
+// of a chunk of contacts are computed by one loop that vectorises (SIMD clones), then added
+// to the lanes in contact order: every clone gives the same bits.
+constexpr int kLanes = 8;
+constexpr std::size_t kChunk = kContactChunk;  // a multiple of kLanes
+static_assert(kChunk % kLanes == 0);
+constexpr int kTerms = 15;  // 9 stress, 3 C_ii, 3 S_i
+// Per contact of a chunk: (Fn + Fs) branch^T, l^2 n_i^2 (kn n_i^2 + ks t_i^2), kn l^2 n_i^2.
+struct Contributions {
+  double v[kTerms][kChunk];
+};
+
+MPMDEM_SIMD_CLONES void contributions(std::size_t m, const double (&h)[3][3], double young,
+                                      double ks_kn, const StagedContacts* __restrict st,
+                                      const double* __restrict nx, const double* __restrict ny,
+                                      const double* __restrict nz, const double* __restrict sx,
+                                      const double* __restrict sy, const double* __restrict sz,
+                                      const double* __restrict pen, const double* __restrict x0,
+                                      const double* __restrict x1, const double* __restrict x2,
+                                      const double* __restrict rad, Contributions* __restrict out) {
+  const double* const pos[3] = {x0, x1, x2};
+  for (std::size_t k = 0; k < m; ++k) {
+    const std::int64_t a = st->a[k], b = st->b[k];
+    const double c[3] = {st->c[0][k], st->c[1][k], st->c[2][k]};
+    const double n[3] = {nx[k], ny[k], nz[k]};
+    const double fs[3] = {sx[k], sy[k], sz[k]};
+    // l = x2 + H c - x1 (branch vector 1 -> 2); Love-Weber's branch is -l.
+    double l[3];
+    for (int q = 0; q < 3; ++q) {
+      l[q] = (pos[q][b] + (h[q][0] * c[0] + h[q][1] * c[1] + h[q][2] * c[2])) - pos[q][a];
+    }
+    const double e1 = young * rad[a], e2 = young * rad[b];
+    const double kn = 2 * e1 * e2 / (e1 + e2);
+    const double ks = ks_kn * kn;
+    const double fn_mag = kn * std::max(pen[k], 0.0);
+    for (int i = 0; i < 3; ++i) {
+      const double f = fn_mag * n[i] + fs[i];
+      for (int j = 0; j < 3; ++j) out->v[3 * i + j][k] = f * -l[j];
+    }
+    const double l2 = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
+    const double fs2 = fs[0] * fs[0] + fs[1] * fs[1] + fs[2] * fs[2];
+    const double inv = 1 / fs2;
+    const double inv_fs2 = fs2 > 0 ? inv : 0.0;  // t_i^2 = fs_i^2 / |fs|^2
     for (int i = 0; i < 3; ++i) {
       const double ni2 = n[i] * n[i];
-      const double ti2 = c.shear_force[k][i] * c.shear_force[k][i] * inv_fs2;
-      cii[i] += l2 * ni2 * (phys.kn * ni2 + phys.ks * ti2);
-      si[i] += phys.kn * l2 * ni2;
+      const double ti2 = fs[i] * fs[i] * inv_fs2;
+      out->v[9 + i][k] = l2 * ni2 * (kn * ni2 + ks * ti2);
+      out->v[12 + i][k] = kn * l2 * ni2;
+    }
+  }
+}
+
+// lanes[t][k mod kLanes] += out.v[t][k] for k < m, in the order of k.
+void add_to_lanes(double (&lanes)[kTerms][kLanes], const Contributions& out, std::size_t m) {
+  const std::size_t full = m / kLanes * kLanes;
+  for (int t = 0; t < kTerms; ++t) {
+    for (std::size_t k0 = 0; k0 < full; k0 += kLanes) {
+      for (int j = 0; j < kLanes; ++j) lanes[t][j] += out.v[t][k0 + j];
+    }
+    for (std::size_t k = full; k < m; ++k) lanes[t][k - full] += out.v[t][k];
+  }
+}
+
+}  // namespace
+
+StressStiffness stress_and_stiffness(const RveState& s, bool stiffness) {
+  const auto& c = s.contacts;
+  double h[3][3];
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) h[a][b] = s.cell.hsize(a, b);
+  double lanes[kTerms][kLanes] = {};
+  Contributions out;
+  StagedContacts st;
+  for (std::size_t k0 = 0; k0 < c.size(); k0 += kChunk) {
+    const std::size_t m = std::min(kChunk, c.size() - k0);
+    stage_contacts(s, k0, m, st);
+    contributions(m, h, s.material.young, s.material.ks_kn, &st, c.normal.c[0].data() + k0,
+                  c.normal.c[1].data() + k0, c.normal.c[2].data() + k0,
+                  c.shear_force.c[0].data() + k0, c.shear_force.c[1].data() + k0,
+                  c.shear_force.c[2].data() + k0, c.penetration.data() + k0,
+                  s.spheres.pos.c[0].data(), s.spheres.pos.c[1].data(), s.spheres.pos.c[2].data(),
+                  s.spheres.radius.data(), &out);
+    add_to_lanes(lanes, out, m);
+  }
+  Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
+  Vec3 cii = Vec3::Zero(), si = Vec3::Zero();
+  for (int j = 0; j < kLanes; ++j) {
+    for (int a = 0; a < 3; ++a) {
+      for (int b = 0; b < 3; ++b) sum(a, b) += lanes[3 * a + b][j];
+      cii[a] += lanes[9 + a][j];
+      si[a] += lanes[12 + a][j];
     }
   }
   const double volume = s.cell.volume();
-  StressStiffness out{sum / volume, 0.0};
-  if (!stiffness) return out;
+  StressStiffness out_ss{sum / volume, 0.0};
+  if (!stiffness) return out_ss;
   const double a = s.material.ks_kn;
   for (int i = 0; i < 3; ++i) {
     const double b = a <= 1 ? (1 - a) * cii[i] + a * si[i] : cii[i] + a * si[i];
-    out.stiffness = std::max(out.stiffness, b);
+    out_ss.stiffness = std::max(out_ss.stiffness, b);
   }
-  out.stiffness /= volume;
-  return out;
+  out_ss.stiffness /= volume;
+  return out_ss;
 }
 
 Eigen::Matrix3d love_weber_stress(const RveState& s) {
@@ -98,7 +170,7 @@ double unbalanced_force(const RveState& s) {
   const auto& c = s.contacts;
   if (sp.size() == 0 || c.size() == 0 || sp.force.size() != sp.size()) return 0.0;
   double body = 0, contact = 0;
-  for (const auto& f : sp.force) body += f.norm();
+  for (std::size_t i = 0; i < sp.size(); ++i) body += sp.force[i].norm();
   for (std::size_t k = 0; k < c.size(); ++k) {
     contact += (normal_force(s, k) + c.shear_force[k]).norm();
   }

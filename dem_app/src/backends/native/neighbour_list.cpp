@@ -44,7 +44,8 @@ void NeighbourList::rebuild(const RveState& s) {
   }
   ref_rounding_ *= 1 + 1e-6;  // the rounding of the norm itself
   Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
-  for (const auto& x : sp.pos) {
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 x = sp.pos[i];
     lo = lo.cwiseMin(x);
     hi = hi.cwiseMax(x);
   }

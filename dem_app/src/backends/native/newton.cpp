@@ -1,25 +1,17 @@
-// NewtonIntegrator of a native RVE (step 3 of integrator.hpp), over blocks of spheres whose
-// fields are copied into xyz-split arrays so that the arithmetic vectorises (the sphere
-// arrays themselves keep xyz interleaved). YADE's formulas: Cundall's non-viscous damping on
-// the fluctuating velocity, homoDeform = 2, leapfrogTranslate and leapfrogSphericalRotate.
+// NewtonIntegrator of a native RVE (step 3 of integrator.hpp), one loop over the spheres'
+// xyz-split arrays that vectorises (SIMD clones). YADE's formulas: Cundall's non-viscous
+// damping on the fluctuating velocity, homoDeform = 2, leapfrogTranslate and
+// leapfrogSphericalRotate.
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "backends/native/integrator.hpp"
+#include "backends/native/simd_clones.hpp"
 
 namespace mpmdem::dem::native {
 
 namespace {
-
-constexpr int kBlock = 16;  // spheres per block (a multiple of every SIMD width)
-
-// One block of spheres, xyz split (lane j is sphere i0 + j; lanes past the end hold zeros
-// and the identity orientation, and are not written back).
-struct Block {
-  double x[3][kBlock], v[3][kBlock], w[3][kBlock], q[4][kBlock];  // q: w, x, y, z
-  double f[3][kBlock], t[3][kBlock], inv_m[kBlock], inv_i[kBlock];
-  double h2[kBlock];  // (dt |w| / 2)^2: at kSeriesLimit or above, redone by step_rotation
-};
 
 // The rotation of one step, by dt |w| about w / |w|: Eigen's Quaternion(AngleAxis(dt |w|,
 // w / |w|)) = (cos h, sin h w / |w|), h = dt |w| / 2. When h < 1e-3 (advance), the Taylor
@@ -48,86 +40,84 @@ inline double damp(double damping, double half_dt, double vel, double accel) {
   return accel * (1 - damping * sign);
 }
 
-void load(const Spheres& sp, std::size_t i0, int m, Block& b) {
-  for (int j = 0; j < kBlock; ++j) {
-    const bool in = j < m;
-    const std::size_t i = in ? i0 + j : i0;
-    for (int a = 0; a < 3; ++a) {
-      b.x[a][j] = in ? sp.pos[i][a] : 0.0;
-      b.v[a][j] = in ? sp.vel[i][a] : 0.0;
-      b.w[a][j] = in ? sp.ang_vel[i][a] : 0.0;
-      b.f[a][j] = in ? sp.force[i][a] : 0.0;
-      b.t[a][j] = in ? sp.torque[i][a] : 0.0;
-    }
-    const Quat o = in ? sp.ori[i] : Quat::Identity();
-    b.q[0][j] = o.w(), b.q[1][j] = o.x(), b.q[2][j] = o.y(), b.q[3][j] = o.z();
-    b.inv_m[j] = in ? sp.inv_mass[i] : 0.0;
-    b.inv_i[j] = in ? sp.inv_inertia[i] : 0.0;
-  }
-}
+// The arrays of one call (restrict: the vectoriser needs no alias checks); q: the
+// orientations as Eigen stores them (x, y, z, w per sphere).
+struct Arrays {
+  double *x0, *x1, *x2, *v0, *v1, *v2, *w0, *w1, *w2;
+  const double *f0, *f1, *f2, *t0, *t1, *t2, *inv_m, *inv_i;
+  double *q, *q_old;
+};
 
-// The same code compiled for AVX-512 and AVX2 besides the baseline, the one the CPU supports
-// chosen at load time (GCC's function multiversioning): more lanes, the same bits (no
-// contraction into FMA: dem_server is built with -ffp-contract=off).
-#if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
-#define MPMDEM_SIMD_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
-#define MPMDEM_ALWAYS_INLINE inline __attribute__((always_inline))
-#else
-#define MPMDEM_SIMD_CLONES
-#define MPMDEM_ALWAYS_INLINE inline
-#endif
-// The block's arithmetic, lane by lane (no control flow: it vectorises); kDvg: the
-// cell's gradient changed in this step (leapfrogTranslate's extra term).
+// The step of spheres [0, n), sphere by sphere (no control flow: it vectorises); kDvg: the
+// cell's gradient changed in this step (leapfrogTranslate's extra term). A sphere spinning
+// fast enough that the rotation's series is not exact (h^2 >= kSeriesLimit) is rotated
+// exactly afterwards by newton(), from its orientation before (q_old, same layout as q).
 template <bool kDvg>
-MPMDEM_ALWAYS_INLINE void advance_lanes(Block& __restrict b, const StepConstants k,
-                                        const Eigen::Matrix3d dvg) {
-  for (int j = 0; j < kBlock; ++j) {
+MPMDEM_ALWAYS_INLINE void advance_spheres(
+    std::size_t n, const StepConstants k, const Eigen::Matrix3d dvg, double* __restrict x0,
+    double* __restrict x1, double* __restrict x2, double* __restrict v0, double* __restrict v1,
+    double* __restrict v2, double* __restrict w0, double* __restrict w1, double* __restrict w2,
+    const double* __restrict f0, const double* __restrict f1, const double* __restrict f2,
+    const double* __restrict t0, const double* __restrict t1, const double* __restrict t2,
+    const double* __restrict inv_m, const double* __restrict inv_i, double* __restrict qd,
+    double* __restrict q_old) {
+  for (std::size_t i = 0; i < n; ++i) {
     double x[3], v[3], w[3], fluct[3], lin[3];
-    for (int a = 0; a < 3; ++a) x[a] = b.x[a][j], v[a] = b.v[a][j], w[a] = b.w[a][j];
+    x[0] = x0[i], x[1] = x1[i], x[2] = x2[i];
+    v[0] = v0[i], v[1] = v1[i], v[2] = v2[i];
+    w[0] = w0[i], w[1] = w1[i], w[2] = w2[i];
+    const double f[3] = {f0[i], f1[i], f2[i]}, t[3] = {t0[i], t1[i], t2[i]};
     for (int a = 0; a < 3; ++a) {
       fluct[a] = v[a] - (k.prev(a, 0) * x[0] + k.prev(a, 1) * x[1] + k.prev(a, 2) * x[2]);
     }
-    for (int a = 0; a < 3; ++a)
-      lin[a] = damp(k.damping, k.half_dt, fluct[a], b.f[a][j] * b.inv_m[j]);
+    for (int a = 0; a < 3; ++a) lin[a] = damp(k.damping, k.half_dt, fluct[a], f[a] * inv_m[i]);
     for (int a = 0; a < 3; ++a) {
       // + the convective term of homoDeform = 2
       lin[a] += k.prev(a, 0) * v[0] + k.prev(a, 1) * v[1] + k.prev(a, 2) * v[2];
     }
     for (int a = 0; a < 3; ++a) v[a] += k.dt * lin[a];
-    for (int a = 0; a < 3; ++a)
-      w[a] += k.dt * damp(k.damping, k.half_dt, w[a], b.t[a][j] * b.inv_i[j]);
+    for (int a = 0; a < 3; ++a) w[a] += k.dt * damp(k.damping, k.half_dt, w[a], t[a] * inv_i[i]);
     // leapfrogTranslate (dvg is zero while the cell's gradient does not change)
     if (kDvg) {
       for (int a = 0; a < 3; ++a) {
         v[a] += dvg(a, 0) * x[0] + dvg(a, 1) * x[1] + dvg(a, 2) * x[2];
       }
     }
-    for (int a = 0; a < 3; ++a) b.x[a][j] = x[a] + v[a] * k.dt, b.v[a][j] = v[a];
+    x0[i] = x[0] + v[0] * k.dt, x1[i] = x[1] + v[1] * k.dt, x2[i] = x[2] + v[2] * k.dt;
+    v0[i] = v[0], v1[i] = v[1], v2[i] = v[2];
     // leapfrogSphericalRotate: o = rotation * o, normalised (zero spin: c = 1, s w = 0,
     // the identity, as YADE's skipped rotation)
-    for (int a = 0; a < 3; ++a) w[a] += k.dspin[a], b.w[a][j] = w[a];
+    for (int a = 0; a < 3; ++a) w[a] += k.dspin[a];
+    w0[i] = w[0], w1[i] = w[1], w2[i] = w[2];
     const double h2 = k.quarter_dt2 * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-    b.h2[j] = h2;
     const double sh = k.half_dt * (1 - h2 * k6 * (1 - h2 * k20));  // sin h / |w|
     const double c = 1 - 0.5 * h2 * (1 - h2 * k12 * (1 - h2 * k30));
     const double r1 = sh * w[0], r2 = sh * w[1], r3 = sh * w[2];
-    const double q0 = b.q[0][j], q1 = b.q[1][j], q2 = b.q[2][j], q3 = b.q[3][j];
+    double* q = qd + 4 * i;
+    const double q0 = q[3], q1 = q[0], q2 = q[1], q3 = q[2];
     const double o0 = c * q0 - r1 * q1 - r2 * q2 - r3 * q3;
     const double o1 = c * q1 + r1 * q0 + r2 * q3 - r3 * q2;
     const double o2 = c * q2 + r2 * q0 + r3 * q1 - r1 * q3;
     const double o3 = c * q3 + r3 * q0 + r1 * q2 - r2 * q1;
     const double inv = 1 / std::sqrt(o0 * o0 + o1 * o1 + o2 * o2 + o3 * o3);
-    b.q[0][j] = o0 * inv, b.q[1][j] = o1 * inv, b.q[2][j] = o2 * inv, b.q[3][j] = o3 * inv;
+    q[3] = o0 * inv, q[0] = o1 * inv, q[1] = o2 * inv, q[2] = o3 * inv;
+    double* old = q_old + 4 * i;  // for the exact rotation of a fast spin (newton())
+    old[0] = q1, old[1] = q2, old[2] = q3, old[3] = q0;
   }
 }
 
-MPMDEM_SIMD_CLONES void advance(Block& __restrict b, const StepConstants& k) {
-  advance_lanes<false>(b, k, Eigen::Matrix3d::Zero());
+#define MPMDEM_NEWTON_ARGS                                                                       \
+  n, k, dvg, a.x0, a.x1, a.x2, a.v0, a.v1, a.v2, a.w0, a.w1, a.w2, a.f0, a.f1, a.f2, a.t0, a.t1, \
+      a.t2, a.inv_m, a.inv_i, a.q, a.q_old
+MPMDEM_SIMD_CLONES void advance(std::size_t n, const StepConstants& k, const Arrays& a) {
+  const Eigen::Matrix3d dvg = Eigen::Matrix3d::Zero();
+  advance_spheres<false>(MPMDEM_NEWTON_ARGS);
 }
-MPMDEM_SIMD_CLONES void advance_dvg(Block& __restrict b, const StepConstants& k,
+MPMDEM_SIMD_CLONES void advance_dvg(std::size_t n, const StepConstants& k, const Arrays& a,
                                     const Eigen::Matrix3d& dvg) {
-  advance_lanes<true>(b, k, dvg);
+  advance_spheres<true>(MPMDEM_NEWTON_ARGS);
 }
+#undef MPMDEM_NEWTON_ARGS
 
 }  // namespace
 
@@ -139,30 +129,43 @@ void newton(RveState& s, double damping) {
   const Eigen::Matrix3d rot = 0.5 * (dvg - dvg.transpose());
   const StepConstants k{dt,      0.5 * dt,           0.25 * dt * dt,
                         damping, cell.prev_vel_grad, {-rot(1, 2), rot(0, 2), -rot(0, 1)}};
-  const bool dvg_nonzero = dvg != Eigen::Matrix3d::Zero();
   auto& sp = s.spheres;
   const std::size_t n = sp.size();
-  Block b;
-  for (std::size_t i0 = 0; i0 < n; i0 += kBlock) {
-    const int m = static_cast<int>(std::min<std::size_t>(kBlock, n - i0));
-    load(sp, i0, m, b);
-    if (dvg_nonzero) {
-      advance_dvg(b, k, dvg);
+  thread_local std::vector<double> q_old;  // scratch of this thread, not of the RVE
+  q_old.resize(4 * n);
+  if (n > 0) {
+    const Arrays a{sp.pos.c[0].data(),
+                   sp.pos.c[1].data(),
+                   sp.pos.c[2].data(),
+                   sp.vel.c[0].data(),
+                   sp.vel.c[1].data(),
+                   sp.vel.c[2].data(),
+                   sp.ang_vel.c[0].data(),
+                   sp.ang_vel.c[1].data(),
+                   sp.ang_vel.c[2].data(),
+                   sp.force.c[0].data(),
+                   sp.force.c[1].data(),
+                   sp.force.c[2].data(),
+                   sp.torque.c[0].data(),
+                   sp.torque.c[1].data(),
+                   sp.torque.c[2].data(),
+                   sp.inv_mass.data(),
+                   sp.inv_inertia.data(),
+                   sp.ori[0].coeffs().data(),
+                   q_old.data()};
+    if (dvg != Eigen::Matrix3d::Zero()) {
+      advance_dvg(n, k, a, dvg);
     } else {
-      advance(b, k);
+      advance(n, k, a);
     }
-    for (int j = 0; j < m; ++j) {
-      const std::size_t i = i0 + j;
-      sp.pos[i] = Vec3(b.x[0][j], b.x[1][j], b.x[2][j]);
-      sp.vel[i] = Vec3(b.v[0][j], b.v[1][j], b.v[2][j]);
-      sp.ang_vel[i] = Vec3(b.w[0][j], b.w[1][j], b.w[2][j]);
-      if (b.h2[j] >= kSeriesLimit) {  // rare: a fast spin, the exact rotation
-        const Vec3& w = sp.ang_vel[i];
-        sp.ori[i] = (step_rotation(w, w.squaredNorm(), dt) * sp.ori[i]).normalized();
-      } else {
-        sp.ori[i] = Quat(b.q[0][j], b.q[1][j], b.q[2][j], b.q[3][j]);
-      }
-    }
+  }
+  // Rare: a fast spin (the series above is not exact), the exact rotation.
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 w = sp.ang_vel[i];
+    const double w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+    if (k.quarter_dt2 * w2 < kSeriesLimit) continue;
+    const Quat before(q_old[4 * i + 3], q_old[4 * i], q_old[4 * i + 1], q_old[4 * i + 2]);
+    sp.ori[i] = (step_rotation(w, w.squaredNorm(), dt) * before).normalized();
   }
   cell.prev_vel_grad = cell.vel_grad;
 }

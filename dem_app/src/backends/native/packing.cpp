@@ -101,9 +101,9 @@ RveState read_packing(const std::filesystem::path& file) {
     sp.radius[i] = v[0];
     sp.mass[i] = v[1];
     sp.inertia[i] = v[2];
-    sp.pos[i] = Vec3(v[3], v[4], v[5]);
-    sp.vel[i] = Vec3(v[6], v[7], v[8]);
-    sp.ang_vel[i] = Vec3(v[9], v[10], v[11]);
+    sp.pos.set(i, Vec3(v[3], v[4], v[5]));
+    sp.vel.set(i, Vec3(v[6], v[7], v[8]));
+    sp.ang_vel.set(i, Vec3(v[9], v[10], v[11]));
     sp.ori[i] = Quat(v[12], v[13], v[14], v[15]);
     sp.ref_ori[i] = Quat(v[16], v[17], v[18], v[19]);
     if (!(sp.radius[i] > 0 && sp.mass[i] > 0 && sp.inertia[i] > 0)) {
@@ -140,8 +140,8 @@ RveState read_packing(const std::filesystem::path& file) {
     if (v[2] != std::tan(s.material.friction_angle)) {
       r.fail("contact friction differs from the material's (one material per RVE)");
     }
-    s.contacts.normal[c] = Vec3(v[3], v[4], v[5]);
-    s.contacts.shear_force[c] = Vec3(v[6], v[7], v[8]);
+    s.contacts.normal.set(c, Vec3(v[3], v[4], v[5]));
+    s.contacts.shear_force.set(c, Vec3(v[6], v[7], v[8]));
     // The normal force is kn max(pen, 0) n (Contacts::normal_force). YADE does not save
     // penetrationDepth (exported as 0): then the penetration |Fn| / kn reproduces the saved
     // normal force (to rounding) until the first step recomputes both.

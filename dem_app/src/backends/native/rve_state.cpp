@@ -22,9 +22,9 @@ void Spheres::resize(std::size_t n) {
   radius.resize(n);
   mass.resize(n);
   inertia.resize(n);
-  pos.resize(n, Vec3::Zero());
-  vel.resize(n, Vec3::Zero());
-  ang_vel.resize(n, Vec3::Zero());
+  pos.resize(n);
+  vel.resize(n);
+  ang_vel.resize(n);
   ori.resize(n, Quat::Identity());
   ref_ori.resize(n, Quat::Identity());
   release_forces();
@@ -49,7 +49,7 @@ void Spheres::push_back(double r, double m, double inertia_value, const Vec3& x)
   radius[n] = r;
   mass[n] = m;
   inertia[n] = inertia_value;
-  pos[n] = x;
+  pos.set(n, x);
 }
 
 namespace {
@@ -68,25 +68,29 @@ void fit_to(std::vector<T>& v, std::size_t n) {
 }  // namespace
 
 std::size_t Spheres::heap_bytes() const {
-  return cap(radius) + cap(mass) + cap(inertia) + cap(pos) + cap(vel) + cap(ang_vel) + cap(ori) +
-         cap(ref_ori) + cap(force) + cap(torque) + cap(inv_mass) + cap(inv_inertia);
+  return cap(radius) + cap(mass) + cap(inertia) + pos.capacity_bytes() + vel.capacity_bytes() +
+         ang_vel.capacity_bytes() + cap(ori) + cap(ref_ori) + force.capacity_bytes() +
+         torque.capacity_bytes() + cap(inv_mass) + cap(inv_inertia);
 }
 
 void Spheres::release_forces() {
-  std::vector<Vec3>().swap(force);
-  std::vector<Vec3>().swap(torque);
+  force.release();
+  torque.release();
   std::vector<double>().swap(inv_mass);
   std::vector<double>().swap(inv_inertia);
 }
 
 std::size_t Contacts::heap_bytes() const {
-  return cap(id1) + cap(id2) + cap(cell) + cap(normal) + cap(shear_force) + cap(penetration);
+  return cap(id1) + cap(id2) + cell.capacity_bytes() + normal.capacity_bytes() +
+         shear_force.capacity_bytes() + cap(penetration);
 }
 
 void Contacts::fit() {
   const std::size_t n = std::max<std::size_t>(16, size() + size() / 8);
-  fit_to(id1, n), fit_to(id2, n), fit_to(cell, n), fit_to(normal, n), fit_to(shear_force, n);
-  fit_to(penetration, n);
+  fit_to(id1, n), fit_to(id2, n), fit_to(penetration, n);
+  for (int a = 0; a < 3; ++a) {
+    fit_to(cell.c[a], n), fit_to(normal.c[a], n), fit_to(shear_force.c[a], n);
+  }
 }
 
 void Contacts::clear() {
@@ -109,22 +113,30 @@ std::size_t Contacts::add(std::uint32_t a, std::uint32_t b, const CellDist& c) {
   return id1.size() - 1;
 }
 
+void Contacts::move(std::size_t from, std::size_t to) {
+  id1[to] = id1[from];
+  id2[to] = id2[from];
+  for (int a = 0; a < 3; ++a) {
+    cell.c[a][to] = cell.c[a][from];
+    normal.c[a][to] = normal.c[a][from];
+    shear_force.c[a][to] = shear_force.c[a][from];
+  }
+  penetration[to] = penetration[from];
+}
+
+void Contacts::truncate(std::size_t n) {
+  id1.resize(n);
+  id2.resize(n);
+  cell.resize(n);
+  normal.resize(n);
+  shear_force.resize(n);
+  penetration.resize(n);
+}
+
 void Contacts::swap_remove(std::size_t k) {
   const std::size_t last = size() - 1;
-  if (k != last) {
-    id1[k] = id1[last];
-    id2[k] = id2[last];
-    cell[k] = cell[last];
-    normal[k] = normal[last];
-    shear_force[k] = shear_force[last];
-    penetration[k] = penetration[last];
-  }
-  id1.pop_back();
-  id2.pop_back();
-  cell.pop_back();
-  normal.pop_back();
-  shear_force.pop_back();
-  penetration.pop_back();
+  if (k != last) move(last, k);
+  truncate(last);
 }
 
 }  // namespace mpmdem::dem::native

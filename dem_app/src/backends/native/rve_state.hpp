@@ -1,6 +1,7 @@
 // The whole state of one native RVE, as a structure of arrays: one contiguous array per
-// field (xyz interleaved within a field), so a step streams through memory and the layout
-// maps onto one GPU thread block per RVE later. Nothing here allocates per step.
+// field, vector fields xyz split (Split3; quaternions interleaved), so a step streams through
+// memory and the layout maps onto one GPU thread block per RVE later. Nothing here allocates per
+// step.
 #pragma once
 
 #include <Eigen/Core>
@@ -18,6 +19,11 @@ using Vec3 = Eigen::Vector3d;
 using Quat = Eigen::Quaterniond;
 
 // FrictMat: the material of every sphere of an RVE (YADE's packings use one).
+// Image offset of a contact or Verlet pair (Interaction::cellDist), 6 bytes: |c| < 2^15
+// (to_cell_dist checks it).
+using CellDist = Eigen::Matrix<std::int16_t, 3, 1>;
+CellDist to_cell_dist(const Eigen::Vector3i& c);
+
 struct Material {
   double young = 6e8;         // contact modulus E [Pa]
   double ks_kn = 0.8;         // FrictMat.poisson: ks/kn in Ip2_FrictMat_FrictMat_FrictPhys
@@ -25,15 +31,47 @@ struct Material {
   double friction_angle = 0;  // [rad]; tan of it caps |Fs|/|Fn|
 };
 
+// A per-sphere or per-contact vector field stored xyz split: one contiguous array per
+// component, so that the loops over spheres and contacts read and write it with unit stride
+// (and vectorise). V is the vector type handed out (Vec3 or CellDist), T its scalar.
+template <typename T, typename V>
+struct Split3 {
+  std::vector<T> c[3];
+  // By value (const: assigning to it does not compile; use set).
+  const V operator[](std::size_t k) const { return V(c[0][k], c[1][k], c[2][k]); }
+  void set(std::size_t k, const V& v) {
+    for (int a = 0; a < 3; ++a) c[a][k] = v[a];
+  }
+  void push_back(const V& v) {
+    for (int a = 0; a < 3; ++a) c[a].push_back(v[a]);
+  }
+  void pop_back() {
+    for (auto& x : c) x.pop_back();
+  }
+  void clear() {
+    for (auto& x : c) x.clear();
+  }
+  void resize(std::size_t n) {
+    for (auto& x : c) x.resize(n);
+  }
+  std::size_t size() const { return c[0].size(); }
+  void release() {
+    for (auto& x : c) std::vector<T>().swap(x);
+  }
+  std::size_t capacity_bytes() const {
+    return (c[0].capacity() + c[1].capacity() + c[2].capacity()) * sizeof(T);
+  }
+};
+
 struct Spheres {
   std::vector<double> radius, mass, inertia;  // per sphere [m], [kg], [kg m2]
-  std::vector<Vec3> pos, vel, ang_vel;        // unwrapped positions, as YADE keeps them
+  Split3<double, Vec3> pos, vel, ang_vel;     // unwrapped positions, as YADE keeps them
   std::vector<Quat> ori, ref_ori;             // orientation, and the one rotation counts from
   // Scratch of the DEM steps: force and torque (accumulated in a step), 1 / mass and
   // 1 / inertia (for Newton). The backend releases them after each coupling step
   // (release_forces; resize does too), compute_forces sizes them again (prepare_scratch), so
   // a resident RVE does not keep them.
-  std::vector<Vec3> force, torque;
+  Split3<double, Vec3> force, torque;
   std::vector<double> inv_mass, inv_inertia;
   std::size_t size() const { return radius.size(); }
   void resize(std::size_t n);
@@ -43,26 +81,26 @@ struct Spheres {
   void release_forces();
 };
 
-// Image offset of a contact or Verlet pair (Interaction::cellDist), 6 bytes: |c| < 2^15
-// (to_cell_dist checks it).
-using CellDist = Eigen::Matrix<std::int16_t, 3, 1>;
-CellDist to_cell_dist(const Eigen::Vector3i& c);
-
 // Real contacts (Interaction with ScGeom + FrictPhys): body 2's image is pos2 + hsize * cell.
-// kn and ks are not stored: they follow from the two radii and the RVE's one material
-// (contact_stiffness); nor is the normal force (normal_force).
+// Structure of arrays, vector fields xyz split (Split3), kept so between steps: the contact
+// loop streams through them. kn and ks are not stored: they follow from the two radii and
+// the RVE's one material (contact_stiffness); nor is the normal force (normal_force).
 struct Contacts {
   std::vector<std::uint32_t> id1, id2;
-  std::vector<CellDist> cell;       // Interaction::cellDist
-  std::vector<Vec3> normal;         // ScGeom::normal (unit, 1 -> 2)
-  std::vector<Vec3> shear_force;    // FrictPhys::shearForce (rotated with the contact)
-  std::vector<double> penetration;  // ScGeom::penetrationDepth (last step)
+  Split3<std::int16_t, CellDist> cell;  // Interaction::cellDist
+  Split3<double, Vec3> normal;          // ScGeom::normal (unit, 1 -> 2)
+  Split3<double, Vec3> shear_force;     // FrictPhys::shearForce (rotated with the contact)
+  std::vector<double> penetration;      // ScGeom::penetrationDepth (last step)
   std::size_t size() const { return id1.size(); }
   void clear();
   // Appends a contact with zero forces; returns its index.
   std::size_t add(std::uint32_t a, std::uint32_t b, const CellDist& c);
   // Removes contact k by moving the last one into its place.
   void swap_remove(std::size_t k);
+  // Moves contact `from` to index `to` (to < from; compaction keeping the order).
+  void move(std::size_t from, std::size_t to);
+  // Keeps the first n contacts.
+  void truncate(std::size_t n);
   std::size_t heap_bytes() const;  // allocated capacity of all arrays
   // Capacity = size + 1/8 (at least 16): the arrays grow by 1/8 instead of doubling.
   void fit();

@@ -40,6 +40,7 @@ NativeBackend::NativeBackend(const NativeParams& p) : p_(p) {
 
 void NativeBackend::setup(const BackendContext& ctx) {
   ctx_ = ctx;
+  packing_cache_.clear();
   rves_.clear();
   lists_.clear();
   last_reply_.clear();
@@ -65,8 +66,14 @@ RveRecord NativeBackend::make_rve(std::uint64_t point, double pressure) const {
     pick = static_cast<std::size_t>(rng() % p_.packings.size());
   }
   r.packing = p_.packings[pick];
-  r.state = native::read_packing(std::filesystem::path(p_.packing_dir) /
-                                 (r.packing + native::kPackingExtension));
+  auto cached = packing_cache_.find(r.packing);
+  if (cached == packing_cache_.end()) {
+    cached = packing_cache_
+                 .emplace(r.packing, native::read_packing(std::filesystem::path(p_.packing_dir) /
+                                                          (r.packing + native::kPackingExtension)))
+                 .first;
+  }
+  r.state = cached->second;
   return r;
 }
 

@@ -12,32 +12,50 @@ namespace mpmdem::dem::native {
 namespace {
 
 // Adds the outputs of contacts [k0, k0 + m) to their spheres in contact order, skipping the
-// contacts that opened (restrict: the six sphere arrays do not alias, so the compiler keeps
-// each contact's values in registers).
-void scatter_arrays(std::size_t m, const std::uint32_t* __restrict id1,
+// contacts that opened; returns whether one did. The first sphere's force and torque stay in
+// registers over a run of contacts with the same first sphere (the contacts are kept sorted by it:
+// Contacts:: sift_back), loaded before the run and stored after it: the same additions in the same
+// order as one sphere update per contact, with 12 loads and stores per contact fewer.
+// restrict: the six sphere arrays do not alias.
+bool scatter_arrays(std::size_t m, const std::uint32_t* __restrict id1,
                     const std::uint32_t* __restrict id2, const double* __restrict pen,
                     const ContactOut& __restrict out, double* __restrict f0, double* __restrict f1,
                     double* __restrict f2, double* __restrict t0, double* __restrict t1,
                     double* __restrict t2) {
-  for (std::size_t j = 0; j < m; ++j) {
-    if (pen[j] < 0) continue;
-    const std::uint32_t a = id1[j], b = id2[j];
-    const double fx = out.f[0][j], fy = out.f[1][j], fz = out.f[2][j];
-    const double ax = out.t1[0][j], ay = out.t1[1][j], az = out.t1[2][j];
-    const double bx = out.t2[0][j], by = out.t2[1][j], bz = out.t2[2][j];
-    f0[a] += fx, f1[a] += fy, f2[a] += fz;
-    t0[a] += ax, t1[a] += ay, t2[a] += az;
-    f0[b] -= fx, f1[b] -= fy, f2[b] -= fz;
-    t0[b] += bx, t1[b] += by, t2[b] += bz;
+  bool opened = false;
+  std::size_t j = 0;
+  while (j < m) {
+    const std::uint32_t a = id1[j];
+    double fa0 = f0[a], fa1 = f1[a], fa2 = f2[a], ta0 = t0[a], ta1 = t1[a], ta2 = t2[a];
+    for (; j < m && id1[j] == a; ++j) {
+      if (pen[j] < 0) {
+        opened = true;
+        continue;
+      }
+      const std::uint32_t b = id2[j];
+      const double fx = out.f[0][j], fy = out.f[1][j], fz = out.f[2][j];
+      const double bx = out.t2[0][j], by = out.t2[1][j], bz = out.t2[2][j];
+      fa0 += fx, fa1 += fy, fa2 += fz;
+      ta0 += out.t1[0][j], ta1 += out.t1[1][j], ta2 += out.t1[2][j];
+      if (b == a) {  // a sphere touching its own image (a cell under two diameters wide)
+        fa0 -= fx, fa1 -= fy, fa2 -= fz;
+        ta0 += bx, ta1 += by, ta2 += bz;
+        continue;
+      }
+      f0[b] -= fx, f1[b] -= fy, f2[b] -= fz;
+      t0[b] += bx, t1[b] += by, t2[b] += bz;
+    }
+    f0[a] = fa0, f1[a] = fa1, f2[a] = fa2, t0[a] = ta0, t1[a] = ta1, t2[a] = ta2;
   }
+  return opened;
 }
 
-void scatter(RveState& s, std::size_t k0, std::size_t m, const ContactOut& out) {
+bool scatter(RveState& s, std::size_t k0, std::size_t m, const ContactOut& out) {
   auto& c = s.contacts;
   auto& sp = s.spheres;
-  scatter_arrays(m, c.id1.data() + k0, c.id2.data() + k0, c.penetration.data() + k0, out,
-                 sp.force.c[0].data(), sp.force.c[1].data(), sp.force.c[2].data(),
-                 sp.torque.c[0].data(), sp.torque.c[1].data(), sp.torque.c[2].data());
+  return scatter_arrays(m, c.id1.data() + k0, c.id2.data() + k0, c.penetration.data() + k0, out,
+                        sp.force.c[0].data(), sp.force.c[1].data(), sp.force.c[2].data(),
+                        sp.torque.c[0].data(), sp.torque.c[1].data(), sp.torque.c[2].data());
 }
 
 }  // namespace
@@ -57,8 +75,7 @@ void compute_forces(RveState& s, NeighbourList& nl) {
   for (std::size_t k0 = 0; k0 < c.size(); k0 += kContactChunk) {
     const std::size_t m = std::min(kContactChunk, c.size() - k0);
     update_contacts(s, law, k0, m, out);
-    scatter(s, k0, m, out);
-    for (std::size_t j = 0; j < m; ++j) opened |= c.penetration[k0 + j] < 0;
+    opened |= scatter(s, k0, m, out);
   }
   // Contacts that opened are removed (YADE erases them), keeping the others' order.
   if (opened) {
@@ -73,6 +90,7 @@ void compute_forces(RveState& s, NeighbourList& nl) {
     }
     c.truncate(kept);
   }
+  const std::size_t n_old = c.size();
   // New contacts: pairs of the Verlet list without a contact that now overlap.
   for (std::uint32_t a = 0; a < sp.size(); ++a) {
     const std::size_t row_end = nl.row_begin(a + 1);
@@ -95,6 +113,9 @@ void compute_forces(RveState& s, NeighbourList& nl) {
       nl.contact_added(p);
     }
   }
+  // The new contacts (in the order of their first sphere) into their places, the contacts
+  // sorted by first sphere for the next step's scatter.
+  for (std::size_t k = n_old; k < c.size(); ++k) c.sift_back(k);
 }
 
 void dem_step(RveState& s, NeighbourList& nl, double damping) {

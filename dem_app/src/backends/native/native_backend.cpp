@@ -67,6 +67,7 @@ RveRecord NativeBackend::make_rve(std::uint64_t point, double pressure) const {
   r.packing = p_.packings[pick];
   r.state = native::read_packing(std::filesystem::path(p_.packing_dir) /
                                  (r.packing + native::kPackingExtension));
+  r.state.contacts.sort_by_first();  // YADE's order: the force scatter wants them by sphere
   return r;
 }
 

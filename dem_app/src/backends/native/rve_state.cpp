@@ -139,4 +139,22 @@ void Contacts::swap_remove(std::size_t k) {
   truncate(last);
 }
 
+void Contacts::sift_back(std::size_t q) {
+  const std::uint32_t a = id1[q];
+  std::size_t pos = q;
+  while (pos > 0 && id1[pos - 1] > a) --pos;
+  if (pos == q) return;
+  const auto rot = [&](auto& v) {
+    std::rotate(v.begin() + static_cast<std::ptrdiff_t>(pos),
+                v.begin() + static_cast<std::ptrdiff_t>(q),
+                v.begin() + static_cast<std::ptrdiff_t>(q + 1));
+  };
+  rot(id1), rot(id2), rot(penetration);
+  for (int c = 0; c < 3; ++c) rot(cell.c[c]), rot(normal.c[c]), rot(shear_force.c[c]);
+}
+
+void Contacts::sort_by_first() {
+  for (std::size_t q = 1; q < size(); ++q) sift_back(q);
+}
+
 }  // namespace mpmdem::dem::native

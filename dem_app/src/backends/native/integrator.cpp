@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <algorithm>
+#include <vector>
 
 #include "backends/native/contact_kernel.hpp"
 
@@ -91,17 +92,21 @@ void compute_forces(RveState& s, NeighbourList& nl) {
     c.truncate(kept);
   }
   const std::size_t n_old = c.size();
-  // New contacts: pairs of the Verlet list without a contact that now overlap.
+  // New contacts: pairs of the Verlet list without a contact that now overlap. The image
+  // shifts H c of the list's distinct offsets first (per thread: not kept with the RVE); the
+  // shift of c = 0 adds a zero, which changes no squared distance.
+  thread_local std::vector<Vec3> shifts;
+  shifts.resize(nl.cells().size());
+  for (std::size_t q = 0; q < shifts.size(); ++q) shifts[q] = s.cell.shift(nl.cells()[q]);
   for (std::uint32_t a = 0; a < sp.size(); ++a) {
     const std::size_t row_end = nl.row_begin(a + 1);
     const Vec3 xa = sp.pos[a];
+    const double ra = sp.radius[a];
     for (std::size_t p = nl.row_begin(a); p < row_end; ++p) {
       if (nl.pair_in_contact(p)) continue;
       const std::uint32_t b = nl.pair_j(p);
-      const bool zero = nl.pair_cell_zero(p);
-      const Vec3 xb = sp.pos[b];
-      const Vec3 d = (zero ? xb : Vec3(xb + s.cell.shift(nl.pair_cell(p)))) - xa;
-      const double r = sp.radius[a] + sp.radius[b];
+      const Vec3 d = Vec3(sp.pos[b] + shifts[nl.pair_cell_index(p)]) - xa;
+      const double r = ra + sp.radius[b];
       if (r * r - d.squaredNorm() < 0) continue;           // Ig2_Sphere_Sphere_ScGeom's test
       const std::size_t k = c.add(a, b, nl.pair_cell(p));  // zero normal and shear force
       update_contacts(s, law, k, 1, out);

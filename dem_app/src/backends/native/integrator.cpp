@@ -59,6 +59,31 @@ bool scatter(RveState& s, std::size_t k0, std::size_t m, const ContactOut& out) 
                         sp.torque.c[0].data(), sp.torque.c[1].data(), sp.torque.c[2].data());
 }
 
+// The first pair in [p, end) of sphere a's row that has no contact and overlaps now
+// (Ig2_Sphere_Sphere_ScGeom's test), end if none: the scan of the new-contact search, its
+// arrays in registers (the caller's contact insertions can move them, not this loop).
+std::size_t next_overlap(const RveState& s, const NeighbourList& nl,
+                         const double* __restrict shifts, std::uint32_t a, std::size_t p,
+                         std::size_t end) {
+  const auto& sp = s.spheres;
+  const double* __restrict x0 = sp.pos.c[0].data();
+  const double* __restrict x1 = sp.pos.c[1].data();
+  const double* __restrict x2 = sp.pos.c[2].data();
+  const double* __restrict rad = sp.radius.data();
+  const std::uint32_t* __restrict pj = nl.pair_j_flagged();
+  const std::uint16_t* __restrict pc = nl.pair_cell_indices();
+  const double xa0 = x0[a], xa1 = x1[a], xa2 = x2[a], ra = rad[a];
+  for (; p < end; ++p) {
+    const std::uint32_t j = pj[p];
+    if (j & NeighbourList::kInContact) continue;
+    const double* h = shifts + 3 * pc[p];
+    const double d0 = (x0[j] + h[0]) - xa0, d1 = (x1[j] + h[1]) - xa1, d2 = (x2[j] + h[2]) - xa2;
+    const double r = ra + rad[j];
+    if (r * r - ((d0 * d0 + d1 * d1) + d2 * d2) >= 0) break;
+  }
+  return p;
+}
+
 }  // namespace
 
 void compute_forces(RveState& s, NeighbourList& nl) {
@@ -95,19 +120,18 @@ void compute_forces(RveState& s, NeighbourList& nl) {
   // New contacts: pairs of the Verlet list without a contact that now overlap. The image
   // shifts H c of the list's distinct offsets first (per thread: not kept with the RVE); the
   // shift of c = 0 adds a zero, which changes no squared distance.
-  thread_local std::vector<Vec3> shifts;
-  shifts.resize(nl.cells().size());
-  for (std::size_t q = 0; q < shifts.size(); ++q) shifts[q] = s.cell.shift(nl.cells()[q]);
+  thread_local std::vector<double> shifts;
+  shifts.resize(3 * nl.cells().size());
+  for (std::size_t q = 0; q < nl.cells().size(); ++q) {
+    const Vec3 h = s.cell.shift(nl.cells()[q]);
+    shifts[3 * q] = h[0], shifts[3 * q + 1] = h[1], shifts[3 * q + 2] = h[2];
+  }
   for (std::uint32_t a = 0; a < sp.size(); ++a) {
     const std::size_t row_end = nl.row_begin(a + 1);
-    const Vec3 xa = sp.pos[a];
-    const double ra = sp.radius[a];
     for (std::size_t p = nl.row_begin(a); p < row_end; ++p) {
-      if (nl.pair_in_contact(p)) continue;
+      p = next_overlap(s, nl, shifts.data(), a, p, row_end);
+      if (p == row_end) break;
       const std::uint32_t b = nl.pair_j(p);
-      const Vec3 d = Vec3(sp.pos[b] + shifts[nl.pair_cell_index(p)]) - xa;
-      const double r = ra + sp.radius[b];
-      if (r * r - d.squaredNorm() < 0) continue;           // Ig2_Sphere_Sphere_ScGeom's test
       const std::size_t k = c.add(a, b, nl.pair_cell(p));  // zero normal and shear force
       update_contacts(s, law, k, 1, out);
       if (c.penetration[k] < 0) {

@@ -38,6 +38,10 @@ class NeighbourList {
   const CellDist& pair_cell(std::size_t p) const { return cells_[pair_cell_[p]]; }
   // The distinct image offsets of the pairs: pair p has cells()[pair_cell_index(p)].
   std::uint16_t pair_cell_index(std::size_t p) const { return pair_cell_[p]; }
+  // The arrays behind pair_j (with the contact flag, kInContact) and pair_cell_index.
+  static constexpr std::uint32_t kInContact = 0x80000000u;  // flag bit of pair_j_
+  const std::uint32_t* pair_j_flagged() const { return pair_j_.data(); }
+  const std::uint16_t* pair_cell_indices() const { return pair_cell_.data(); }
   const std::vector<CellDist>& cells() const { return cells_; }
   bool pair_in_contact(std::size_t p) const { return (pair_j_[p] & kInContact) != 0; }
   // Bookkeeping of the contacts' pairs: contact_added after Contacts::add of pair p's
@@ -46,7 +50,6 @@ class NeighbourList {
   void contact_removed(const Contacts& c, std::size_t k);
 
  private:
-  static constexpr std::uint32_t kInContact = 0x80000000u;  // flag bit of pair_j_
   void rebuild(const RveState& s);
   // Index of the pair (a, b, c) or (b, a, -c); -1 if the list does not hold it.
   std::int64_t find(std::uint32_t a, std::uint32_t b, const CellDist& c) const;

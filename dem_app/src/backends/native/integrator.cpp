@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <algorithm>
+#include <vector>
 
 #include "backends/native/contact_kernel.hpp"
 
@@ -12,32 +13,75 @@ namespace mpmdem::dem::native {
 namespace {
 
 // Adds the outputs of contacts [k0, k0 + m) to their spheres in contact order, skipping the
-// contacts that opened (restrict: the six sphere arrays do not alias, so the compiler keeps
-// each contact's values in registers).
-void scatter_arrays(std::size_t m, const std::uint32_t* __restrict id1,
+// contacts that opened; returns whether one did. The first sphere's force and torque stay in
+// registers over a run of contacts with the same first sphere (the contacts are kept sorted by it:
+// Contacts:: sift_back), loaded before the run and stored after it: the same additions in the same
+// order as one sphere update per contact, with 12 loads and stores per contact fewer.
+// restrict: the six sphere arrays do not alias.
+bool scatter_arrays(std::size_t m, const std::uint32_t* __restrict id1,
                     const std::uint32_t* __restrict id2, const double* __restrict pen,
                     const ContactOut& __restrict out, double* __restrict f0, double* __restrict f1,
                     double* __restrict f2, double* __restrict t0, double* __restrict t1,
                     double* __restrict t2) {
-  for (std::size_t j = 0; j < m; ++j) {
-    if (pen[j] < 0) continue;
-    const std::uint32_t a = id1[j], b = id2[j];
-    const double fx = out.f[0][j], fy = out.f[1][j], fz = out.f[2][j];
-    const double ax = out.t1[0][j], ay = out.t1[1][j], az = out.t1[2][j];
-    const double bx = out.t2[0][j], by = out.t2[1][j], bz = out.t2[2][j];
-    f0[a] += fx, f1[a] += fy, f2[a] += fz;
-    t0[a] += ax, t1[a] += ay, t2[a] += az;
-    f0[b] -= fx, f1[b] -= fy, f2[b] -= fz;
-    t0[b] += bx, t1[b] += by, t2[b] += bz;
+  bool opened = false;
+  std::size_t j = 0;
+  while (j < m) {
+    const std::uint32_t a = id1[j];
+    double fa0 = f0[a], fa1 = f1[a], fa2 = f2[a], ta0 = t0[a], ta1 = t1[a], ta2 = t2[a];
+    for (; j < m && id1[j] == a; ++j) {
+      if (pen[j] < 0) {
+        opened = true;
+        continue;
+      }
+      const std::uint32_t b = id2[j];
+      const double fx = out.f[0][j], fy = out.f[1][j], fz = out.f[2][j];
+      const double bx = out.t2[0][j], by = out.t2[1][j], bz = out.t2[2][j];
+      fa0 += fx, fa1 += fy, fa2 += fz;
+      ta0 += out.t1[0][j], ta1 += out.t1[1][j], ta2 += out.t1[2][j];
+      if (b == a) {  // a sphere touching its own image (a cell under two diameters wide)
+        fa0 -= fx, fa1 -= fy, fa2 -= fz;
+        ta0 += bx, ta1 += by, ta2 += bz;
+        continue;
+      }
+      f0[b] -= fx, f1[b] -= fy, f2[b] -= fz;
+      t0[b] += bx, t1[b] += by, t2[b] += bz;
+    }
+    f0[a] = fa0, f1[a] = fa1, f2[a] = fa2, t0[a] = ta0, t1[a] = ta1, t2[a] = ta2;
   }
+  return opened;
 }
 
-void scatter(RveState& s, std::size_t k0, std::size_t m, const ContactOut& out) {
+bool scatter(RveState& s, std::size_t k0, std::size_t m, const ContactOut& out) {
   auto& c = s.contacts;
   auto& sp = s.spheres;
-  scatter_arrays(m, c.id1.data() + k0, c.id2.data() + k0, c.penetration.data() + k0, out,
-                 sp.force.c[0].data(), sp.force.c[1].data(), sp.force.c[2].data(),
-                 sp.torque.c[0].data(), sp.torque.c[1].data(), sp.torque.c[2].data());
+  return scatter_arrays(m, c.id1.data() + k0, c.id2.data() + k0, c.penetration.data() + k0, out,
+                        sp.force.c[0].data(), sp.force.c[1].data(), sp.force.c[2].data(),
+                        sp.torque.c[0].data(), sp.torque.c[1].data(), sp.torque.c[2].data());
+}
+
+// The first pair in [p, end) of sphere a's row that has no contact and overlaps now
+// (Ig2_Sphere_Sphere_ScGeom's test), end if none: the scan of the new-contact search, its
+// arrays in registers (the caller's contact insertions can move them, not this loop).
+std::size_t next_overlap(const RveState& s, const NeighbourList& nl,
+                         const double* __restrict shifts, std::uint32_t a, std::size_t p,
+                         std::size_t end) {
+  const auto& sp = s.spheres;
+  const double* __restrict x0 = sp.pos.c[0].data();
+  const double* __restrict x1 = sp.pos.c[1].data();
+  const double* __restrict x2 = sp.pos.c[2].data();
+  const double* __restrict rad = sp.radius.data();
+  const std::uint32_t* __restrict pj = nl.pair_j_flagged();
+  const std::uint16_t* __restrict pc = nl.pair_cell_indices();
+  const double xa0 = x0[a], xa1 = x1[a], xa2 = x2[a], ra = rad[a];
+  for (; p < end; ++p) {
+    const std::uint32_t j = pj[p];
+    if (j & NeighbourList::kInContact) continue;
+    const double* h = shifts + 3 * pc[p];
+    const double d0 = (x0[j] + h[0]) - xa0, d1 = (x1[j] + h[1]) - xa1, d2 = (x2[j] + h[2]) - xa2;
+    const double r = ra + rad[j];
+    if (r * r - ((d0 * d0 + d1 * d1) + d2 * d2) >= 0) break;
+  }
+  return p;
 }
 
 }  // namespace
@@ -57,8 +101,7 @@ void compute_forces(RveState& s, NeighbourList& nl) {
   for (std::size_t k0 = 0; k0 < c.size(); k0 += kContactChunk) {
     const std::size_t m = std::min(kContactChunk, c.size() - k0);
     update_contacts(s, law, k0, m, out);
-    scatter(s, k0, m, out);
-    for (std::size_t j = 0; j < m; ++j) opened |= c.penetration[k0 + j] < 0;
+    opened |= scatter(s, k0, m, out);
   }
   // Contacts that opened are removed (YADE erases them), keeping the others' order.
   if (opened) {
@@ -73,18 +116,22 @@ void compute_forces(RveState& s, NeighbourList& nl) {
     }
     c.truncate(kept);
   }
-  // New contacts: pairs of the Verlet list without a contact that now overlap.
+  const std::size_t n_old = c.size();
+  // New contacts: pairs of the Verlet list without a contact that now overlap. The image
+  // shifts H c of the list's distinct offsets first (per thread: not kept with the RVE); the
+  // shift of c = 0 adds a zero, which changes no squared distance.
+  thread_local std::vector<double> shifts;
+  shifts.resize(3 * nl.cells().size());
+  for (std::size_t q = 0; q < nl.cells().size(); ++q) {
+    const Vec3 h = s.cell.shift(nl.cells()[q]);
+    shifts[3 * q] = h[0], shifts[3 * q + 1] = h[1], shifts[3 * q + 2] = h[2];
+  }
   for (std::uint32_t a = 0; a < sp.size(); ++a) {
     const std::size_t row_end = nl.row_begin(a + 1);
-    const Vec3 xa = sp.pos[a];
     for (std::size_t p = nl.row_begin(a); p < row_end; ++p) {
-      if (nl.pair_in_contact(p)) continue;
+      p = next_overlap(s, nl, shifts.data(), a, p, row_end);
+      if (p == row_end) break;
       const std::uint32_t b = nl.pair_j(p);
-      const bool zero = nl.pair_cell_zero(p);
-      const Vec3 xb = sp.pos[b];
-      const Vec3 d = (zero ? xb : Vec3(xb + s.cell.shift(nl.pair_cell(p)))) - xa;
-      const double r = sp.radius[a] + sp.radius[b];
-      if (r * r - d.squaredNorm() < 0) continue;           // Ig2_Sphere_Sphere_ScGeom's test
       const std::size_t k = c.add(a, b, nl.pair_cell(p));  // zero normal and shear force
       update_contacts(s, law, k, 1, out);
       if (c.penetration[k] < 0) {
@@ -95,6 +142,9 @@ void compute_forces(RveState& s, NeighbourList& nl) {
       nl.contact_added(p);
     }
   }
+  // The new contacts (in the order of their first sphere) into their places, the contacts
+  // sorted by first sphere for the next step's scatter.
+  for (std::size_t k = n_old; k < c.size(); ++k) c.sift_back(k);
 }
 
 void dem_step(RveState& s, NeighbourList& nl, double damping) {

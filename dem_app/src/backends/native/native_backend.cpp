@@ -68,10 +68,10 @@ RveRecord NativeBackend::make_rve(std::uint64_t point, double pressure) const {
   r.packing = p_.packings[pick];
   auto cached = packing_cache_.find(r.packing);
   if (cached == packing_cache_.end()) {
-    cached = packing_cache_
-                 .emplace(r.packing, native::read_packing(std::filesystem::path(p_.packing_dir) /
-                                                          (r.packing + native::kPackingExtension)))
-                 .first;
+    native::RveState state = native::read_packing(std::filesystem::path(p_.packing_dir) /
+                                                  (r.packing + native::kPackingExtension));
+    state.contacts.sort_by_first();  // YADE's order: the force scatter wants them by sphere
+    cached = packing_cache_.emplace(r.packing, std::move(state)).first;
   }
   r.state = cached->second;
   return r;

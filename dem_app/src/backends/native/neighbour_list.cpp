@@ -90,7 +90,7 @@ void NeighbourList::rebuild(const RveState& s) {
   };
   row_.assign(n + 1, 0);
   pair_j_.clear();
-  pair_cell_.clear();
+  std::vector<CellDist> pair_cells;
   for (std::uint32_t i = 0; i < n; ++i) {
     row_[i] = static_cast<std::uint32_t>(pair_j_.size());
     for (std::uint32_t j = i + 1; j < n; ++j) {
@@ -105,7 +105,7 @@ void NeighbourList::rebuild(const RveState& s) {
       for (int k = 0; k < 27; ++k) {
         if ((d0 + offsets[k]).squaredNorm() < cut * cut) {
           pair_j_.push_back(j);
-          pair_cell_.push_back(to_cell_dist(c0 + steps[k]));
+          pair_cells.push_back(to_cell_dist(c0 + steps[k]));
         }
       }
     }
@@ -113,7 +113,21 @@ void NeighbourList::rebuild(const RveState& s) {
   row_[n] = static_cast<std::uint32_t>(pair_j_.size());
   // Exact size: the pair count changes only here (rebuilds are rare).
   pair_j_.shrink_to_fit();
+  // The distinct offsets (sorted), and each pair's index among them.
+  const auto less = [](const CellDist& x, const CellDist& y) {
+    return std::lexicographical_compare(x.data(), x.data() + 3, y.data(), y.data() + 3);
+  };
+  cells_ = pair_cells;
+  std::sort(cells_.begin(), cells_.end(), less);
+  cells_.erase(std::unique(cells_.begin(), cells_.end()), cells_.end());
+  cells_.shrink_to_fit();
+  if (cells_.size() > 0xffff) throw std::runtime_error("native backend: too many image offsets");
+  pair_cell_.resize(pair_cells.size());
   pair_cell_.shrink_to_fit();
+  for (std::size_t p = 0; p < pair_cells.size(); ++p) {
+    pair_cell_[p] = static_cast<std::uint16_t>(
+        std::lower_bound(cells_.begin(), cells_.end(), pair_cells[p], less) - cells_.begin());
+  }
   // Flag the pairs of the existing contacts (an image the list does not hold is never
   // re-created).
   n_contacts_ = s.contacts.size();
@@ -128,7 +142,7 @@ std::int64_t NeighbourList::find(std::uint32_t a, std::uint32_t b, const CellDis
   const std::uint32_t i = std::min(a, b), j = std::max(a, b);
   if (i + 1 >= row_.size()) return -1;
   for (std::size_t p = row_[i]; p < row_[i + 1]; ++p) {
-    if (pair_j(p) == j && pair_cell_[p] == cc) return static_cast<std::int64_t>(p);
+    if (pair_j(p) == j && cells_[pair_cell_[p]] == cc) return static_cast<std::int64_t>(p);
   }
   return -1;
 }
@@ -136,7 +150,7 @@ std::int64_t NeighbourList::find(std::uint32_t a, std::uint32_t b, const CellDis
 std::size_t NeighbourList::heap_bytes() const {
   return x_ref_.capacity() * sizeof(Eigen::Vector3f) +
          (row_.capacity() + pair_j_.capacity()) * sizeof(std::uint32_t) +
-         pair_cell_.capacity() * sizeof(CellDist);
+         pair_cell_.capacity() * sizeof(std::uint16_t) + cells_.capacity() * sizeof(CellDist);
 }
 
 void NeighbourList::contact_added(std::size_t p) {

@@ -6,8 +6,9 @@
 // (extent: the diagonal of the spheres' bounding box at the build). Under the small
 // homogeneous increments of a coupling step this is rare. The list also maps pairs to the
 // RVE's real contacts, so that only pairs without a contact are tested for a new one.
-// Storage: compressed rows (pairs of sphere i are contiguous, i < j), 10 bytes per pair
-// (j with the contact flag in its top bit, three 16-bit image offsets), 12 per sphere (x_ref
+// Storage: compressed rows (pairs of sphere i are contiguous, i < j), 6 bytes per pair
+// (j with the contact flag in its top bit, the 16-bit index of its image offset in a table of
+// the build's distinct offsets, 6 bytes each: a few dozen), 12 per sphere (x_ref
 // in single precision, its rounding added to the displacement bound), sized exactly at
 // each build; nothing per contact (a removed contact's pair is found in its row).
 #pragma once
@@ -34,8 +35,14 @@ class NeighbourList {
   std::size_t n_pairs() const { return pair_j_.size(); }
   std::size_t row_begin(std::size_t i) const { return row_[i]; }
   std::uint32_t pair_j(std::size_t p) const { return pair_j_[p] & ~kInContact; }
-  const CellDist& pair_cell(std::size_t p) const { return pair_cell_[p]; }
-  bool pair_cell_zero(std::size_t p) const { return pair_cell_[p] == CellDist::Zero(); }
+  const CellDist& pair_cell(std::size_t p) const { return cells_[pair_cell_[p]]; }
+  // The distinct image offsets of the pairs: pair p has cells()[pair_cell_index(p)].
+  std::uint16_t pair_cell_index(std::size_t p) const { return pair_cell_[p]; }
+  // The arrays behind pair_j (with the contact flag, kInContact) and pair_cell_index.
+  static constexpr std::uint32_t kInContact = 0x80000000u;  // flag bit of pair_j_
+  const std::uint32_t* pair_j_flagged() const { return pair_j_.data(); }
+  const std::uint16_t* pair_cell_indices() const { return pair_cell_.data(); }
+  const std::vector<CellDist>& cells() const { return cells_; }
   bool pair_in_contact(std::size_t p) const { return (pair_j_[p] & kInContact) != 0; }
   // Bookkeeping of the contacts' pairs: contact_added after Contacts::add of pair p's
   // contact, contact_removed before Contacts::swap_remove of contact k.
@@ -43,7 +50,6 @@ class NeighbourList {
   void contact_removed(const Contacts& c, std::size_t k);
 
  private:
-  static constexpr std::uint32_t kInContact = 0x80000000u;  // flag bit of pair_j_
   void rebuild(const RveState& s);
   // Index of the pair (a, b, c) or (b, a, -c); -1 if the list does not hold it.
   std::int64_t find(std::uint32_t a, std::uint32_t b, const CellDist& c) const;
@@ -57,9 +63,10 @@ class NeighbourList {
   Eigen::Matrix3d h_ref_ = Eigen::Matrix3d::Identity();
   Eigen::Matrix3d h_ref_inv_ = Eigen::Matrix3d::Identity();
   std::vector<Eigen::Vector3f> x_ref_;
-  std::vector<std::uint32_t> row_;     // n + 1 row starts
-  std::vector<std::uint32_t> pair_j_;  // second sphere of each pair | kInContact
-  std::vector<CellDist> pair_cell_;    // image offset of each pair
+  std::vector<std::uint32_t> row_;        // n + 1 row starts
+  std::vector<std::uint32_t> pair_j_;     // second sphere of each pair | kInContact
+  std::vector<std::uint16_t> pair_cell_;  // image offset of each pair: index in cells_
+  std::vector<CellDist> cells_;           // the distinct image offsets, sorted
 };
 
 }  // namespace mpmdem::dem::native

@@ -30,9 +30,21 @@ void Spheres::resize(std::size_t n) {
   release_forces();
 }
 
+namespace {
+// Spare buffers of the per-step scratch fields, per thread: release_forces hands an RVE's
+// buffers to them and prepare_scratch takes them back for the next RVE, so a coupling step
+// allocates nothing and a resident RVE still keeps no scratch.
+thread_local std::vector<double> spare_scratch[8];
+}  // namespace
+
 void Spheres::prepare_scratch() {
   const std::size_t n = size();
   if (force.size() == n && inv_mass.size() == n) return;
+  std::vector<double>* const f[8] = {&force.c[0],  &force.c[1],  &force.c[2], &torque.c[0],
+                                     &torque.c[1], &torque.c[2], &inv_mass,   &inv_inertia};
+  for (int i = 0; i < 8; ++i) {
+    if (f[i]->capacity() == 0) f[i]->swap(spare_scratch[i]);
+  }
   force.resize(n);
   torque.resize(n);
   inv_mass.resize(n);
@@ -74,10 +86,12 @@ std::size_t Spheres::heap_bytes() const {
 }
 
 void Spheres::release_forces() {
-  force.release();
-  torque.release();
-  std::vector<double>().swap(inv_mass);
-  std::vector<double>().swap(inv_inertia);
+  std::vector<double>* const f[8] = {&force.c[0],  &force.c[1],  &force.c[2], &torque.c[0],
+                                     &torque.c[1], &torque.c[2], &inv_mass,   &inv_inertia};
+  for (int i = 0; i < 8; ++i) {
+    if (spare_scratch[i].capacity() < f[i]->capacity()) spare_scratch[i].swap(*f[i]);
+    std::vector<double>().swap(*f[i]);
+  }
 }
 
 std::size_t Contacts::heap_bytes() const {
@@ -137,6 +151,24 @@ void Contacts::swap_remove(std::size_t k) {
   const std::size_t last = size() - 1;
   if (k != last) move(last, k);
   truncate(last);
+}
+
+void Contacts::sift_back(std::size_t q) {
+  const std::uint32_t a = id1[q];
+  std::size_t pos = q;
+  while (pos > 0 && id1[pos - 1] > a) --pos;
+  if (pos == q) return;
+  const auto rot = [&](auto& v) {
+    std::rotate(v.begin() + static_cast<std::ptrdiff_t>(pos),
+                v.begin() + static_cast<std::ptrdiff_t>(q),
+                v.begin() + static_cast<std::ptrdiff_t>(q + 1));
+  };
+  rot(id1), rot(id2), rot(penetration);
+  for (int c = 0; c < 3; ++c) rot(cell.c[c]), rot(normal.c[c]), rot(shear_force.c[c]);
+}
+
+void Contacts::sort_by_first() {
+  for (std::size_t q = 1; q < size(); ++q) sift_back(q);
 }
 
 }  // namespace mpmdem::dem::native

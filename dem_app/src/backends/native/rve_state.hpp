@@ -101,6 +101,12 @@ struct Contacts {
   void move(std::size_t from, std::size_t to);
   // Keeps the first n contacts.
   void truncate(std::size_t n);
+  // Moves contact q back past the contacts before it with a larger first sphere (one step
+  // of an insertion sort; the others keep their order): contacts sorted by first sphere
+  // before q stay sorted, so that the force scatter finds each sphere's contacts together.
+  void sift_back(std::size_t q);
+  // Stable sort by first sphere (once, for contacts read from a YADE packing).
+  void sort_by_first();
   std::size_t heap_bytes() const;  // allocated capacity of all arrays
   // Capacity = size + 1/8 (at least 16): the arrays grow by 1/8 instead of doubling.
   void fit();

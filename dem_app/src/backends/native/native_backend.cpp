@@ -12,6 +12,7 @@
 #include <exception>
 #include <random>
 #include <stdexcept>
+#include <utility>
 
 #include "backends/native/cell_regularisation.hpp"
 #include "backends/native/consolidation.hpp"

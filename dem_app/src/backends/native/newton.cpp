@@ -112,7 +112,7 @@ MPMDEM_ALWAYS_INLINE Seen advance_spheres(
     for (int a = 0; a < 3; ++a) w[a] += k.dspin[a];
     w0[i] = w[0], w1[i] = w[1], w2[i] = w[2];
     const double h2 = k.quarter_dt2 * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-    fast |= !(h2 < kSeriesLimit);                                  // newton()'s test, NaN included
+    if (kSkin) fast |= !(h2 < kSeriesLimit);                       // newton()'s test, NaN included
     const double sh = k.half_dt * (1 - h2 * k6 * (1 - h2 * k20));  // sin h / |w|
     const double c = 1 - 0.5 * h2 * (1 - h2 * k12 * (1 - h2 * k30));
     const double r1 = sh * w[0], r2 = sh * w[1], r3 = sh * w[2];
@@ -127,7 +127,7 @@ MPMDEM_ALWAYS_INLINE Seen advance_spheres(
     double* old = q_old + 4 * i;  // for the exact rotation of a fast spin (newton())
     old[0] = q1, old[1] = q2, old[2] = q3, old[3] = q0;
   }
-  return {fast != 0, max_bits};
+  return {!kSkin || fast != 0, max_bits};  // without kSkin, newton() scans the spheres
 }
 
 #define MPMDEM_NEWTON_ARGS                                                                       \

@@ -55,8 +55,9 @@ struct Arrays {
 // cell's gradient changed in this step (leapfrogTranslate's extra term). A sphere spinning
 // fast enough that the rotation's series is not exact (h^2 >= kSeriesLimit) is rotated
 // exactly afterwards by newton(), from its orientation before (q_old, same layout as q).
-// What the loop saw: a fast spin; max_i |x_i - x_ref_i|^2 (the skin check's) as the bits
-// of a double (>= 0, so ordered as integers: an integer max reduction, which vectorises).
+// What the loop saw (with kSkin; without, fast is true and max_d2_bits 0): a fast spin;
+// max_i |x_i - x_ref_i|^2 (the skin check's) as the bits of a double (>= 0, so ordered as
+// integers: an integer max reduction, which vectorises).
 struct Seen {
   bool fast;
   std::int64_t max_d2_bits;

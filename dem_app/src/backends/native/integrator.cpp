@@ -150,7 +150,7 @@ void compute_forces(RveState& s, NeighbourList& nl) {
 void dem_step(RveState& s, NeighbourList& nl, double damping) {
   s.cell.integrate_and_update(s.dt);
   compute_forces(s, nl);
-  newton(s, damping);
+  newton(s, damping, &nl);
   ++s.iter;
 }
 

@@ -16,6 +16,8 @@ namespace mpmdem::dem::native {
 void dem_step(RveState& s, NeighbourList& nl, double damping);
 // Steps 2 and 3 split out (tests drive them separately).
 void compute_forces(RveState& s, NeighbourList& nl);
-void newton(RveState& s, double damping);
+// nl: hands the skin check's max displacement to the list's next ensure() (see
+// NeighbourList::moved); s.iter is to be incremented after it, as dem_step does.
+void newton(RveState& s, double damping, NeighbourList* nl = nullptr);
 
 }  // namespace mpmdem::dem::native

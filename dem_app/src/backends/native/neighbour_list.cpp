@@ -4,16 +4,30 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <stdexcept>
 
 namespace mpmdem::dem::native {
 
 void NeighbourList::ensure(const RveState& s) {
   if (valid_ && x_ref_.size() == s.spheres.size() && n_contacts_ == s.contacts.size()) {
-    double max_d2 = 0;
-    for (std::size_t i = 0; i < x_ref_.size(); ++i) {
-      max_d2 = std::max(max_d2, (s.spheres.pos[i] - x_ref_[i].cast<double>()).squaredNorm());
+    double max_d2 = moved_max_d2_;
+    if (moved_iter_ != s.iter) {
+      max_d2 = 0;
+      for (std::size_t i = 0; i < x_ref_.size(); ++i) {
+        max_d2 = std::max(max_d2, (s.spheres.pos[i] - x_ref_[i].cast<double>()).squaredNorm());
+      }
     }
+#ifdef MPMDEM_CHECK_MOVED  // debugging: Newton's max against this scan, bit for bit
+    if (moved_iter_ == s.iter) {
+      double m = 0;
+      for (std::size_t i = 0; i < x_ref_.size(); ++i) {
+        m = std::max(m, (s.spheres.pos[i] - x_ref_[i].cast<double>()).squaredNorm());
+      }
+      if (std::memcmp(&m, &max_d2, sizeof m) != 0) std::abort();
+    }
+#endif
     // |x - x_ref| <= |x - (single) x_ref| + its rounding at the build.
     const double strain = ((s.cell.hsize - h_ref_) * h_ref_inv_).norm();
     if (2 * (std::sqrt(max_d2) + ref_rounding_) + strain * (extent_ + max_cutoff_) < skin_) {
@@ -26,6 +40,7 @@ void NeighbourList::ensure(const RveState& s) {
 void NeighbourList::rebuild(const RveState& s) {
   ++rebuilds_;
   valid_ = true;
+  moved_iter_ = -1;
   const auto& sp = s.spheres;
   const std::size_t n = sp.size();
   const double r_min = n ? *std::min_element(sp.radius.begin(), sp.radius.end()) : 0.0;

@@ -27,7 +27,16 @@ class NeighbourList {
   explicit NeighbourList(double skin_factor = 0.5) : skin_factor_(skin_factor) {}
   // Rebuilds if the skin may be used up (or the list was invalidated).
   void ensure(const RveState& s);
-  void invalidate() { valid_ = false; }
+  void invalidate() { valid_ = false, moved_iter_ = -1; }
+  // The reference positions of the skin check (x, y, z floats per sphere), nullptr if the
+  // list is not valid for n spheres. Newton computes max_i |x_i - x_ref_i|^2 with the new
+  // positions as ensure() would (the same bits) and hands it over with moved(): ensure() of
+  // the next step (s.iter == iter, the positions not moved since) then takes it instead of
+  // scanning the spheres again. Code that moves spheres otherwise invalidates the list.
+  const float* ref_positions(std::size_t n) const {
+    return valid_ && x_ref_.size() == n ? x_ref_.data()->data() : nullptr;
+  }
+  void moved(double max_d2, std::int64_t iter) { moved_max_d2_ = max_d2, moved_iter_ = iter; }
   std::int64_t rebuilds() const { return rebuilds_; }
   std::size_t heap_bytes() const;  // allocated capacity of the list's arrays
 
@@ -58,7 +67,9 @@ class NeighbourList {
   bool valid_ = false;
   std::int64_t rebuilds_ = 0;
   double skin_ = 0, extent_ = 0, max_cutoff_ = 0;
-  double ref_rounding_ = 0;     // max_i |x_i - x_ref_i| at the build (single precision)
+  double ref_rounding_ = 0;  // max_i |x_i - x_ref_i| at the build (single precision)
+  double moved_max_d2_ = 0;  // max_i |x_i - x_ref_i|^2 from Newton, valid at moved_iter_
+  std::int64_t moved_iter_ = -1;
   std::size_t n_contacts_ = 0;  // contacts of the RVE as the list last saw them
   Eigen::Matrix3d h_ref_ = Eigen::Matrix3d::Identity();
   Eigen::Matrix3d h_ref_inv_ = Eigen::Matrix3d::Identity();

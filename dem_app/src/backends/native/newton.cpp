@@ -4,6 +4,8 @@
 // leapfrogSphericalRotate.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "backends/native/integrator.hpp"
@@ -46,21 +48,32 @@ struct Arrays {
   double *x0, *x1, *x2, *v0, *v1, *v2, *w0, *w1, *w2;
   const double *f0, *f1, *f2, *t0, *t1, *t2, *inv_m, *inv_i;
   double *q, *q_old;
+  const float* ref;
 };
 
 // The step of spheres [0, n), sphere by sphere (no control flow: it vectorises); kDvg: the
 // cell's gradient changed in this step (leapfrogTranslate's extra term). A sphere spinning
 // fast enough that the rotation's series is not exact (h^2 >= kSeriesLimit) is rotated
 // exactly afterwards by newton(), from its orientation before (q_old, same layout as q).
-template <bool kDvg>
-MPMDEM_ALWAYS_INLINE void advance_spheres(
+// What the loop saw (with kSkin; without, fast is true and max_d2_bits 0): a fast spin;
+// max_i |x_i - x_ref_i|^2 (the skin check's) as the bits of a double (>= 0, so ordered as
+// integers: an integer max reduction, which vectorises).
+struct Seen {
+  bool fast;
+  std::int64_t max_d2_bits;
+};
+
+template <bool kDvg, bool kSkin>
+MPMDEM_ALWAYS_INLINE Seen advance_spheres(
     std::size_t n, const StepConstants k, const Eigen::Matrix3d dvg, double* __restrict x0,
     double* __restrict x1, double* __restrict x2, double* __restrict v0, double* __restrict v1,
     double* __restrict v2, double* __restrict w0, double* __restrict w1, double* __restrict w2,
     const double* __restrict f0, const double* __restrict f1, const double* __restrict f2,
     const double* __restrict t0, const double* __restrict t1, const double* __restrict t2,
     const double* __restrict inv_m, const double* __restrict inv_i, double* __restrict qd,
-    double* __restrict q_old) {
+    double* __restrict q_old, const float* __restrict ref) {
+  unsigned fast = 0;  // some sphere spins too fast for the series (an OR reduction: vectorises)
+  std::int64_t max_bits = 0;
   for (std::size_t i = 0; i < n; ++i) {
     double x[3], v[3], w[3], fluct[3], lin[3];
     x[0] = x0[i], x[1] = x1[i], x[2] = x2[i];
@@ -83,13 +96,24 @@ MPMDEM_ALWAYS_INLINE void advance_spheres(
         v[a] += dvg(a, 0) * x[0] + dvg(a, 1) * x[1] + dvg(a, 2) * x[2];
       }
     }
-    x0[i] = x[0] + v[0] * k.dt, x1[i] = x[1] + v[1] * k.dt, x2[i] = x[2] + v[2] * k.dt;
+    const double xn[3] = {x[0] + v[0] * k.dt, x[1] + v[1] * k.dt, x[2] + v[2] * k.dt};
+    x0[i] = xn[0], x1[i] = xn[1], x2[i] = xn[2];
+    if (kSkin) {  // NeighbourList::ensure's |x - x_ref|^2; a NaN is skipped as std::max does
+      double e[3];
+      for (int a = 0; a < 3; ++a) e[a] = xn[a] - static_cast<double>(ref[3 * i + a]);
+      const double d2 = e[0] * e[0] + (e[1] * e[1] + e[2] * e[2]);  // Eigen's squaredNorm order
+      std::int64_t u;
+      std::memcpy(&u, &d2, sizeof u);
+      u = d2 == d2 ? u : 0;
+      max_bits = u > max_bits ? u : max_bits;
+    }
     v0[i] = v[0], v1[i] = v[1], v2[i] = v[2];
     // leapfrogSphericalRotate: o = rotation * o, normalised (zero spin: c = 1, s w = 0,
     // the identity, as YADE's skipped rotation)
     for (int a = 0; a < 3; ++a) w[a] += k.dspin[a];
     w0[i] = w[0], w1[i] = w[1], w2[i] = w[2];
     const double h2 = k.quarter_dt2 * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    if (kSkin) fast |= !(h2 < kSeriesLimit);                       // newton()'s test, NaN included
     const double sh = k.half_dt * (1 - h2 * k6 * (1 - h2 * k20));  // sin h / |w|
     const double c = 1 - 0.5 * h2 * (1 - h2 * k12 * (1 - h2 * k30));
     const double r1 = sh * w[0], r2 = sh * w[1], r3 = sh * w[2];
@@ -104,24 +128,29 @@ MPMDEM_ALWAYS_INLINE void advance_spheres(
     double* old = q_old + 4 * i;  // for the exact rotation of a fast spin (newton())
     old[0] = q1, old[1] = q2, old[2] = q3, old[3] = q0;
   }
+  return {!kSkin || fast != 0, max_bits};  // without kSkin, newton() scans the spheres
 }
 
 #define MPMDEM_NEWTON_ARGS                                                                       \
   n, k, dvg, a.x0, a.x1, a.x2, a.v0, a.v1, a.v2, a.w0, a.w1, a.w2, a.f0, a.f1, a.f2, a.t0, a.t1, \
-      a.t2, a.inv_m, a.inv_i, a.q, a.q_old
-MPMDEM_SIMD_CLONES void advance(std::size_t n, const StepConstants& k, const Arrays& a) {
+      a.t2, a.inv_m, a.inv_i, a.q, a.q_old, a.ref
+// ref: the neighbour list's reference positions (nullptr: no skin check). Not in the step
+// that changes the gradient (advance_dvg): there its terms spill registers and cost more
+// than the separate check in NeighbourList::ensure.
+MPMDEM_SIMD_CLONES Seen advance(std::size_t n, const StepConstants& k, const Arrays& a) {
   const Eigen::Matrix3d dvg = Eigen::Matrix3d::Zero();
-  advance_spheres<false>(MPMDEM_NEWTON_ARGS);
+  if (a.ref) return advance_spheres<false, true>(MPMDEM_NEWTON_ARGS);
+  return advance_spheres<false, false>(MPMDEM_NEWTON_ARGS);
 }
-MPMDEM_SIMD_CLONES void advance_dvg(std::size_t n, const StepConstants& k, const Arrays& a,
+MPMDEM_SIMD_CLONES Seen advance_dvg(std::size_t n, const StepConstants& k, const Arrays& a,
                                     const Eigen::Matrix3d& dvg) {
-  advance_spheres<true>(MPMDEM_NEWTON_ARGS);
+  return advance_spheres<true, false>(MPMDEM_NEWTON_ARGS);
 }
 #undef MPMDEM_NEWTON_ARGS
 
 }  // namespace
 
-void newton(RveState& s, double damping) {
+void newton(RveState& s, double damping, NeighbourList* nl) {
   auto& cell = s.cell;
   cell.activate_next();
   const double dt = s.dt;
@@ -133,34 +162,35 @@ void newton(RveState& s, double damping) {
   const std::size_t n = sp.size();
   thread_local std::vector<double> q_old;  // scratch of this thread, not of the RVE
   q_old.resize(4 * n);
+  Seen seen{false, 0};
+  const bool dvg_step = dvg != Eigen::Matrix3d::Zero();
+  const float* ref = nl ? nl->ref_positions(n) : nullptr;
   if (n > 0) {
-    const Arrays a{sp.pos.c[0].data(),
-                   sp.pos.c[1].data(),
-                   sp.pos.c[2].data(),
-                   sp.vel.c[0].data(),
-                   sp.vel.c[1].data(),
-                   sp.vel.c[2].data(),
-                   sp.ang_vel.c[0].data(),
-                   sp.ang_vel.c[1].data(),
-                   sp.ang_vel.c[2].data(),
-                   sp.force.c[0].data(),
-                   sp.force.c[1].data(),
-                   sp.force.c[2].data(),
-                   sp.torque.c[0].data(),
-                   sp.torque.c[1].data(),
-                   sp.torque.c[2].data(),
-                   sp.inv_mass.data(),
-                   sp.inv_inertia.data(),
-                   sp.ori[0].coeffs().data(),
-                   q_old.data()};
-    if (dvg != Eigen::Matrix3d::Zero()) {
-      advance_dvg(n, k, a, dvg);
+    const Arrays a{sp.pos.c[0].data(),     sp.pos.c[1].data(),
+                   sp.pos.c[2].data(),     sp.vel.c[0].data(),
+                   sp.vel.c[1].data(),     sp.vel.c[2].data(),
+                   sp.ang_vel.c[0].data(), sp.ang_vel.c[1].data(),
+                   sp.ang_vel.c[2].data(), sp.force.c[0].data(),
+                   sp.force.c[1].data(),   sp.force.c[2].data(),
+                   sp.torque.c[0].data(),  sp.torque.c[1].data(),
+                   sp.torque.c[2].data(),  sp.inv_mass.data(),
+                   sp.inv_inertia.data(),  sp.ori[0].coeffs().data(),
+                   q_old.data(),           ref};
+    if (dvg_step) {
+      seen = advance_dvg(n, k, a, dvg);
     } else {
-      advance(n, k, a);
+      seen = advance(n, k, a);
     }
   }
-  // Rare: a fast spin (the series above is not exact), the exact rotation.
-  for (std::size_t i = 0; i < n; ++i) {
+  if (ref && !dvg_step) {
+    double max_d2;
+    std::memcpy(&max_d2, &seen.max_d2_bits, sizeof max_d2);
+    nl->moved(max_d2, s.iter + 1);  // dem_step's ++iter follows
+  }
+  const bool fast = seen.fast;
+  // Rare: a fast spin (the series above is not exact), the exact rotation; the spheres are
+  // scanned only if the loop above saw one (the same test on the same h^2).
+  for (std::size_t i = 0; fast && i < n; ++i) {
     const Vec3 w = sp.ang_vel[i];
     const double w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
     if (k.quarter_dt2 * w2 < kSeriesLimit) continue;

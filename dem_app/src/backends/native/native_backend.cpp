@@ -47,7 +47,7 @@ void NativeBackend::setup(const BackendContext& ctx) {
   last_reply_.clear();
 }
 
-RveRecord NativeBackend::make_rve(std::uint64_t point, double pressure) const {
+RveRecord NativeBackend::make_rve(std::uint64_t point, double pressure) {
   (void)pressure;
   RveRecord r;
   r.point = point;

@@ -63,7 +63,7 @@ class NativeBackend final : public RveBackend {
   void set_threads(int n) { threads_ = n < 1 ? 1 : n; }
 
  private:
-  native::RveRecord make_rve(std::uint64_t point, double pressure) const;
+  native::RveRecord make_rve(std::uint64_t point, double pressure);
   void fill_reply(std::size_t k, std::int32_t status, std::int32_t n_sub,
                   protocol::RveReply& reply) const;
   void regularise(std::size_t k, std::uint64_t step);
@@ -75,7 +75,7 @@ class NativeBackend final : public RveBackend {
   std::map<std::uint64_t, protocol::RveReply> last_reply_;  // kFlagSkip cache (by gid)
   // Packings read once per name (make_rve copies them): the paper scene's 70,389 RVEs draw
   // 8 packings, and parsing a 600 KB text file per RVE took minutes.
-  mutable std::map<std::string, native::RveState> packing_cache_;
+  std::map<std::string, native::RveState> packing_cache_;
   std::uint64_t step_no_ = 0;
   int threads_ = 1;
   std::string fault_;

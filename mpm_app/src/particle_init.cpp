@@ -70,7 +70,10 @@ std::vector<AxisPoint> axis_points(const Scene& scene, const Grid& grid, const R
   std::vector<AxisPoint> out;
   if (!reg.gauss_placement) {
     const double s = h / n;
-    for (int i = 0; i < cells * n; ++i) out.push_back({o + s * (i + 0.5), s});
+    for (int i = 0; i < cells * n; ++i) {
+      const double x = o + s * (i + 0.5);
+      if (x >= reg.min[d] && x < reg.max[d]) out.push_back({x, s});  // as inside() tests
+    }
     return out;
   }
   const double lo = std::max(0.0, (reg.min[d] - o) / h);

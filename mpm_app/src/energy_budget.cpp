@@ -40,6 +40,23 @@ void GridWork::after_bc(const Grid& grid, double dt, EnergyBudget& budget) const
   budget.W_bc += w_bc;
 }
 
+double point_kinetic_energy(const Particles& p) {
+  double e = 0.0;
+  for (std::size_t q = 0; q < p.size(); ++q) e += 0.5 * p.m[q] * p.v[q].squaredNorm();
+  return e;
+}
+
+double grid_kinetic_energy(const Grid& grid, bool from_velocity) {
+  const double floor = grid.mass_floor;
+  double e = 0.0;
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    const double m = grid.m_i[i];
+    if (!(m > floor)) continue;
+    e += from_velocity ? 0.5 * m * grid.v_i[i].squaredNorm() : 0.5 * grid.mv_i[i].squaredNorm() / m;
+  }
+  return e;
+}
+
 double stress_work(const Particles& p, bool volume_after_update) {
   double w = 0.0;
   for (std::size_t q = 0; q < p.size(); ++q) {

@@ -17,6 +17,13 @@
 //          by node: 1/2 m (|v_i|^2 - |v0_i|^2) = (impulse of all forces) . (v0_i + v_i) / 2.
 //   E_err  what is left: the dissipation of the PIC part of the PIC/FLIP blend, the
 //          transfer and time-integration errors, and any energy injected by an instability.
+//   W_transfer  the part of E_err the particle-grid transfers remove, measured per step:
+//          (E_k of the points - E_k of the grid after P2G) + (E_k of the grid after the
+//          update and the walls - E_k of the points after G2P), E_k of the grid being
+//          sum_i 1/2 m_i |v_i|^2 over the nodes above the mass floor. Signed: a FLIP part
+//          can give energy back. E_err - W_transfer is then the time-integration part
+//          (the stress work on the points against the grid's force work, gravity's work on
+//          the positions against the grid's) and any energy an instability injects.
 // Serial sums in node/point order, so the figures do not depend on the thread count.
 #pragma once
 
@@ -28,11 +35,18 @@
 namespace mpmdem::mpm {
 
 struct EnergyBudget {
-  double E_k0 = 0.0;    // kinetic energy at t = 0 [J]
-  double W_int = 0.0;   // [J]
-  double W_damp = 0.0;  // [J]
-  double W_bc = 0.0;    // [J]
+  double E_k0 = 0.0;        // kinetic energy at t = 0 [J]
+  double W_int = 0.0;       // [J]
+  double W_damp = 0.0;      // [J]
+  double W_bc = 0.0;        // [J]
+  double W_transfer = 0.0;  // [J], included in E_err
 };
+
+// sum_p 1/2 m_p |v_p|^2 (the points' kinetic energy, serial sum in point order).
+double point_kinetic_energy(const Particles& p);
+// sum_i 1/2 |mv_i|^2 / m_i over the nodes above the mass floor, from the momentum (after
+// P2G) or, with from_velocity, sum_i 1/2 m_i |v_i|^2 (after the update and the walls).
+double grid_kinetic_energy(const Grid& grid, bool from_velocity);
 
 // The grid part of the budget, measured around grid_update() and the boundary conditions:
 // before_update() with the grid as P2G left it and grid_update()'s arguments; before_bc()

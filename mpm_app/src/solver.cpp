@@ -274,20 +274,24 @@ void Solver::step_with(Stencils<Shape::kWidth>& stencils, double dt) {
   // Shape functions at x_p^n, used by every transfer of this step.
   compute_stencils<Shape>(grid_, p_.x, stencils);
   // Project mass, momentum and internal force to the grid.
+  EnergyBudget step_work;  // W_damp, W_bc, W_transfer of this step
+  step_work.W_transfer = point_kinetic_energy(p_);
   p2g(p_, stencils, grid_, sp.transfer, buffers_);
+  step_work.W_transfer -= grid_kinetic_energy(grid_, false);
   const auto t1 = Clock::now();
   // Integrate the grid momentum; enforce walls and velocity constraints.
-  EnergyBudget step_work;  // W_damp, W_bc of this step
   grid_work_.before_update(grid_, sp.gravity, sp.local_damping);
   grid_update(grid_, sp.gravity, sp.local_damping, dt);
   grid_work_.before_bc(grid_);
   bc_.apply(grid_.v_i);
   grid_work_.after_bc(grid_, dt, step_work);
+  step_work.W_transfer += grid_kinetic_energy(grid_, true);
   if (sp.transfer == Transfer::kXPIC) xpic_velocity(p_, stencils, grid_, sp.xpic_order, buffers_);
   const auto t2 = Clock::now();
   // Update point velocities (APIC or PIC/FLIP) and positions; MUSL re-projects the momentum.
   const bool musl = sp.scheme == Scheme::kMUSL;
   g2p(p_, stencils, grid_, sp.transfer, flip_fraction(sp, dt), dt, musl, buffers_);
+  step_work.W_transfer -= point_kinetic_energy(p_);
   if (musl) {
     grid_velocity_from_momentum(grid_);
     bc_.apply(grid_.v_i);
@@ -325,6 +329,7 @@ void Solver::step_with(Stencils<Shape::kWidth>& stencils, double dt) {
   budget_.W_int += 0.5 * (W_int_start + stress_work(p_, true));
   budget_.W_damp += step_work.W_damp;
   budget_.W_bc += step_work.W_bc;
+  budget_.W_transfer += step_work.W_transfer;
   const auto t4 = Clock::now();
   timing_ = {seconds(t0, t1), seconds(t1, t2), seconds(t2, t3), seconds(t3, t4),
              provider_->last_timing()};

@@ -28,9 +28,11 @@ def set_solver(cfg, keys):
 
 def run_column(app, cfg, out, name, study):
     """Writes cfg to OUT/NAME.yaml, runs it into OUT/NAME and returns summary.json as a dict
-    with two more keys: Eerr_over_released (the energy budget's residual E_err, the energy
-    the transfers removed, as a share of the potential energy released; energies.csv's last
-    row) and run_s (wall time of the process). On failure exits naming the run."""
+    with more keys: Eerr_over_released (the energy budget's residual E_err as a share of the
+    potential energy released; energies.csv's last row), Etransfer_over_released (the part
+    of E_err the particle-grid transfers removed, W_transfer), Eother_over_released (the
+    rest: time integration) and run_s (wall time of the process). On failure exits naming
+    the run."""
     path = os.path.join(out, name + ".yaml")
     with open(path, "w") as f:
         yaml.safe_dump(cfg, f, sort_keys=False)
@@ -45,7 +47,10 @@ def run_column(app, cfg, out, name, study):
     with open(os.path.join(run, "energies.csv")) as f:
         last = list(csv.DictReader(f))[-1]
     released = float(last["E_p0"]) - float(last["E_p"])
-    s["Eerr_over_released"] = float(last["E_err"]) / released if released > 0 else float("nan")
+    share = (lambda W: W / released) if released > 0 else (lambda W: float("nan"))
+    s["Eerr_over_released"] = share(float(last["E_err"]))
+    s["Etransfer_over_released"] = share(float(last["W_transfer"]))
+    s["Eother_over_released"] = share(float(last["E_err"]) - float(last["W_transfer"]))
     s["run_s"] = time.time() - t0
     return s
 

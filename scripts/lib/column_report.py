@@ -178,6 +178,12 @@ def write_report(run_dir, s, made, rot_note, thin):
     lo_bound = 1.0 - H_f / H_i
     hi_bound = 1.0 - L_i / L_f if L_f > 0 else float("nan")
 
+    def budget_text(b):
+        keys = ("W_int_share", "W_bc_share", "E_err_transfer_share", "E_err_other_share")
+        if not all(isinstance(b.get(k), (int, float)) for k in keys):
+            return "n/a"
+        return " / ".join(f"{100 * b[k]:.1f} %" for k in keys)
+
     def fmt(v, d=3):
         return "n/a" if v is None or (isinstance(v, float) and math.isnan(v)) else f"{v:.{d}f}"
 
@@ -206,6 +212,9 @@ def write_report(run_dir, s, made, rot_note, thin):
         f"{lo_bound:.3f} - {hi_bound:.3f} for this deposit |",
         f"| E_k/E_p0 at the end | {fmt(s.get('Ek_over_Ep0_final'), 4)} | ~0 (deposit at rest by "
         "6 t*; at-rest stop below its kinetic_ratio) |",
+        f"| energy released since t = 0: stress work / base and walls / transfers / rest | "
+        f"{budget_text(s.get('energy_budget', {}))} | the transfers' part is numerical "
+        "dissipation (docs/transfers.md); the rest is the time integration's error |",
         f"| RVE updates with no contacts | {int(s.get('rve_no_contact_updates', 0))} | - |",
         f"| RVE cells tiled because the MPM stretch made them too thin (dem_app log) | {thin} | "
         "- (each doubles that RVE's spheres) |",

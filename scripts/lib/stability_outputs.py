@@ -68,13 +68,19 @@ def non_finite_files(run_dir):
 
 
 def energy_error(path):
+    """(max |E_err| / E_ref, max |E_err - W_transfer| / E_ref, E_ref) over the rows of an
+    energies.csv: the residual, and the part of it the transfers do not explain (time
+    integration; what an instability would inject)."""
     rows = list(csv.DictReader(open(path)))
     if not rows:
-        return float("nan"), 0.0
+        return float("nan"), float("nan"), 0.0
     ep0, ek0 = float(rows[0]["E_p0"]), float(rows[0]["E_k0"])
     e_ref = ek0 + max(abs(ep0 - float(r["E_p"])) for r in rows)
     err = max(abs(float(r["E_err"])) for r in rows)
-    return (err / e_ref if e_ref > 0 else float("nan")), e_ref
+    other = max(abs(float(r["E_err"]) - float(r["W_transfer"])) for r in rows)
+    if not e_ref > 0:
+        return float("nan"), float("nan"), e_ref
+    return err / e_ref, other / e_ref, e_ref
 
 
 def max_velocity(run_dir):

@@ -96,11 +96,12 @@ void compute_forces(RveState& s, NeighbourList& nl) {
   auto& c = s.contacts;
   const LawConstants law = law_constants(s);
   ContactOut out;
+  const double* rec = pack_sphere_records(s);  // nullptr: no AVX-512
   // Existing contacts, a chunk at a time: update (vectorised), then forces in contact order.
   bool opened = false;
   for (std::size_t k0 = 0; k0 < c.size(); k0 += kContactChunk) {
     const std::size_t m = std::min(kContactChunk, c.size() - k0);
-    update_contacts(s, law, k0, m, out);
+    update_contacts(s, law, k0, m, out, rec);
     opened |= scatter(s, k0, m, out);
   }
   // Contacts that opened are removed (YADE erases them), keeping the others' order.
@@ -133,7 +134,7 @@ void compute_forces(RveState& s, NeighbourList& nl) {
       if (p == row_end) break;
       const std::uint32_t b = nl.pair_j(p);
       const std::size_t k = c.add(a, b, nl.pair_cell(p));  // zero normal and shear force
-      update_contacts(s, law, k, 1, out);
+      update_contacts(s, law, k, 1, out, rec);
       if (c.penetration[k] < 0) {
         c.swap_remove(k);
         continue;

@@ -174,9 +174,15 @@ MPMDEM_AVX512 void loop(std::size_t m, const LawConstants& kc, const double* __r
     const v8d fn[3] = {fn_mag * n[0], fn_mag * n[1], fn_mag * n[2]};
     const v8d max_fs = (fn[0] * fn[0] + fn[1] * fn[1] + fn[2] * fn[2]) * k.tan2;
     const v8d fs2 = fs[0] * fs[0] + fs[1] * fs[1] + fs[2] * fs[2];
-    const v8d ratio = vsqrt(max_fs) / vsqrt(fs2);
-    const v8d scale = ratio < one ? ratio : one;
-    for (int q = 0; q < 3; ++q) fs[q] *= scale;
+    // Coulomb (contact_loop's select on the ratio): the ratio is below 1 or exactly 1 where
+    // fs2 > max_fs, and not below 1 elsewhere (NaN included), so the cap is the same bits
+    // when it uses the ratio only there; it is computed only if a contact slides.
+    const __mmask8 slide = _mm512_cmp_pd_mask((__m512d)fs2, (__m512d)max_fs, _CMP_GT_OQ);
+    if (slide) {
+      const v8d ratio = vsqrt(max_fs) / vsqrt(fs2);
+      const v8d scale = (v8d)_mm512_mask_blend_pd(slide, (__m512d)one, (__m512d)ratio);
+      for (int q = 0; q < 3; ++q) fs[q] *= scale;
+    }
     const v8d f[3] = {-fn[0] - fs[0], -fn[1] - fs[1], -fn[2] - fs[2]};
     const v8d nf[3] = {n[1] * f[2] - n[2] * f[1], n[2] * f[0] - n[0] * f[2],
                        n[0] * f[1] - n[1] * f[0]};

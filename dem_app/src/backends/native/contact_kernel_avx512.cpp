@@ -108,12 +108,23 @@ MPMDEM_AVX512 void loop(std::size_t m, const LawConstants& kc, const double* __r
     const __mmask8 mask = left >= 8 ? __mmask8(0xff) : __mmask8((1u << left) - 1);
     const double* pa[8];
     const double* pb[8];
-    double cd[3][8];
-    for (std::size_t l = 0; l < 8; ++l) {  // lanes past the end repeat the last contact
-      const std::size_t jj = j + (l < left ? l : left - 1);
-      pa[l] = rec + kRec * id1[jj];
-      pb[l] = rec + kRec * id2[jj];
-      for (int q = 0; q < 3; ++q) cd[q][l] = cell[q][jj];
+    v8d ci[3];
+    if (left >= 8) {
+      for (std::size_t l = 0; l < 8; ++l) pa[l] = rec + kRec * id1[j + l];
+      for (std::size_t l = 0; l < 8; ++l) pb[l] = rec + kRec * id2[j + l];
+      for (int q = 0; q < 3; ++q) {
+        const __m128i c16 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cell[q] + j));
+        ci[q] = (v8d)_mm512_cvtepi32_pd(_mm256_cvtepi16_epi32(c16));
+      }
+    } else {
+      double cd[3][8];
+      for (std::size_t l = 0; l < 8; ++l) {  // lanes past the end repeat the last contact
+        const std::size_t jj = j + (l < left ? l : left - 1);
+        pa[l] = rec + kRec * id1[jj];
+        pb[l] = rec + kRec * id2[jj];
+        for (int q = 0; q < 3; ++q) cd[q][l] = cell[q][jj];
+      }
+      for (int q = 0; q < 3; ++q) ci[q] = (v8d)_mm512_loadu_pd(cd[q]);
     }
     v8d xa[3], xb[3], va[3], vb[3], w1[3], w2[3], r1, r2, unused;
     load_rows(pa, xa[0], xa[1], xa[2], r1);
@@ -126,8 +137,6 @@ MPMDEM_AVX512 void loop(std::size_t m, const LawConstants& kc, const double* __r
     for (int l = 0; l < 8; ++l) qa[l] = pa[l] + 8, qb[l] = pb[l] + 8;
     load_rows(qa, w1[0], w1[1], w1[2], unused);
     load_rows(qb, w2[0], w2[1], w2[2], unused);
-    v8d ci[3];
-    for (int q = 0; q < 3; ++q) ci[q] = (v8d)_mm512_loadu_pd(cd[q]);
     v8d d[3], sv[3];
     for (int q = 0; q < 3; ++q) {
       const v8d shift = k.h[q][0] * ci[0] + k.h[q][1] * ci[1] + k.h[q][2] * ci[2];

@@ -2,6 +2,7 @@
 #include "backends/native/integrator.hpp"
 
 #include <cmath>
+#include <cstdlib>
 
 #include <algorithm>
 #include <vector>
@@ -84,6 +85,46 @@ std::size_t next_overlap(const RveState& s, const NeighbourList& nl,
   return p;
 }
 
+// Pair p of sphere a overlaps: its contact (zero normal and shear force) is updated and its
+// forces added, or dropped if it opened again.
+void add_contact(RveState& s, NeighbourList& nl, const LawConstants& law, const double* rec,
+                 std::uint32_t a, std::size_t p, ContactOut& out) {
+  auto& c = s.contacts;
+  const std::size_t k = c.add(a, nl.pair_j(p), nl.pair_cell(p));
+  update_contacts(s, law, k, 1, out, rec);
+  if (c.penetration[k] < 0) {
+    c.swap_remove(k);
+    return;
+  }
+  scatter(s, k, 1, out);
+  nl.contact_added(p);
+}
+
+// The same over the list of near_pairs from its entry q: the first entry whose pair has no
+// contact and overlaps now, end if none.
+std::size_t next_near_overlap(const RveState& s, const NeighbourList& nl,
+                              const double* __restrict shifts, const std::uint32_t* __restrict near,
+                              std::size_t q, std::size_t end) {
+  const auto& sp = s.spheres;
+  const double* __restrict x0 = sp.pos.c[0].data();
+  const double* __restrict x1 = sp.pos.c[1].data();
+  const double* __restrict x2 = sp.pos.c[2].data();
+  const double* __restrict rad = sp.radius.data();
+  const std::uint32_t* __restrict pj = nl.pair_j_flagged();
+  const std::uint16_t* __restrict pc = nl.pair_cell_indices();
+  for (; q < end; ++q) {
+    const std::uint32_t a = near[2 * q], p = near[2 * q + 1];
+    const std::uint32_t j = pj[p];
+    if (j & NeighbourList::kInContact) continue;
+    const double* h = shifts + 3 * pc[p];
+    const double d0 = (x0[j] + h[0]) - x0[a], d1 = (x1[j] + h[1]) - x1[a],
+                 d2 = (x2[j] + h[2]) - x2[a];
+    const double r = rad[a] + rad[j];
+    if (r * r - ((d0 * d0 + d1 * d1) + d2 * d2) >= 0) break;
+  }
+  return q;
+}
+
 }  // namespace
 
 void compute_forces(RveState& s, NeighbourList& nl) {
@@ -127,20 +168,33 @@ void compute_forces(RveState& s, NeighbourList& nl) {
     const Vec3 h = s.cell.shift(nl.cells()[q]);
     shifts[3 * q] = h[0], shifts[3 * q + 1] = h[1], shifts[3 * q + 2] = h[2];
   }
-  for (std::uint32_t a = 0; a < sp.size(); ++a) {
-    const std::size_t row_end = nl.row_begin(a + 1);
-    for (std::size_t p = nl.row_begin(a); p < row_end; ++p) {
-      p = next_overlap(s, nl, shifts.data(), a, p, row_end);
-      if (p == row_end) break;
-      const std::uint32_t b = nl.pair_j(p);
-      const std::size_t k = c.add(a, b, nl.pair_cell(p));  // zero normal and shear force
-      update_contacts(s, law, k, 1, out, rec);
-      if (c.penetration[k] < 0) {
-        c.swap_remove(k);
-        continue;
+  // Only the pairs that can overlap (NeighbourList::near_pairs, in row order) when the
+  // spheres have moved little since the list's build, else every row.
+  std::size_t n_near = 0;
+  if (const std::uint32_t* near = nl.near_pairs(s, &n_near)) {
+    for (std::size_t q = 0; q < n_near; ++q) {
+      q = next_near_overlap(s, nl, shifts.data(), near, q, n_near);
+      if (q == n_near) break;
+      add_contact(s, nl, law, rec, near[2 * q], near[2 * q + 1], out);
+    }
+#ifdef MPMDEM_CHECK_NEAR  // debugging: every pair that overlaps now without a contact is listed
+    for (std::uint32_t a = 0; a < sp.size(); ++a) {
+      for (std::size_t p = nl.row_begin(a); p < nl.row_begin(a + 1); ++p) {
+        if (next_overlap(s, nl, shifts.data(), a, p, p + 1) != p) continue;
+        bool listed = false;
+        for (std::size_t q = 0; q < n_near; ++q) listed |= near[2 * q + 1] == p;
+        if (!listed) std::abort();
       }
-      scatter(s, k, 1, out);
-      nl.contact_added(p);
+    }
+#endif
+  } else {
+    for (std::uint32_t a = 0; a < sp.size(); ++a) {
+      const std::size_t row_end = nl.row_begin(a + 1);
+      for (std::size_t p = nl.row_begin(a); p < row_end; ++p) {
+        p = next_overlap(s, nl, shifts.data(), a, p, row_end);
+        if (p == row_end) break;
+        add_contact(s, nl, law, rec, a, p, out);
+      }
     }
   }
   // The new contacts (in the order of their first sphere) into their places, the contacts

@@ -190,6 +190,7 @@ void NeighbourList::contact_removed(const Contacts& c, std::size_t k) {
     }
   }
   const std::uint32_t entry[2] = {std::min(c.id1[k], c.id2[k]), static_cast<std::uint32_t>(p)};
+  if (near_.size() == near_.capacity()) near_.reserve(near_.size() + near_.size() / 8 + 16);
   near_.insert(near_.begin() + static_cast<std::ptrdiff_t>(2 * q), entry, entry + 2);
 }
 
@@ -197,17 +198,24 @@ const std::uint32_t* NeighbourList::near_pairs(const RveState& s, std::size_t* c
   const double gap = kNearGap * skin_;
   if (!valid_ || !(motion_ < gap)) return nullptr;
   if (near_stale_) {
-    near_.clear();
     const auto& r = s.spheres.radius;
     const double limit = gap * (1 + 1e-6);  // covers the rounding of the distances below
+    const auto near = [&](std::uint32_t i, std::uint32_t p) {
+      if (pair_j_[p] & kInContact) return false;
+      const std::uint32_t j = pair_j_[p];
+      const Vec3 d = (x_ref_[j].cast<double>() + h_ref_ * cells_[pair_cell_[p]].cast<double>()) -
+                     x_ref_[i].cast<double>();
+      return d.norm() - (r[i] + r[j]) < limit;
+    };
+    std::size_t listed = 0;  // sized exactly (a removal's insertion grows it by 1/8)
     for (std::uint32_t i = 0; i + 1 < row_.size(); ++i) {
-      const Vec3 xi = x_ref_[i].cast<double>();
+      for (std::uint32_t p = row_[i]; p < row_[i + 1]; ++p) listed += near(i, p);
+    }
+    std::vector<std::uint32_t>().swap(near_);
+    near_.reserve(2 * listed);
+    for (std::uint32_t i = 0; i + 1 < row_.size(); ++i) {
       for (std::uint32_t p = row_[i]; p < row_[i + 1]; ++p) {
-        if (pair_j_[p] & kInContact) continue;
-        const std::uint32_t j = pair_j_[p];
-        const Vec3 d =
-            (x_ref_[j].cast<double>() + h_ref_ * cells_[pair_cell_[p]].cast<double>()) - xi;
-        if (d.norm() - (r[i] + r[j]) < limit) near_.push_back(i), near_.push_back(p);
+        if (near(i, p)) near_.push_back(i), near_.push_back(p);
       }
     }
     near_stale_ = false;

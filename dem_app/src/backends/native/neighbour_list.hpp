@@ -65,7 +65,7 @@ class NeighbourList {
   // contact added keeps its pair here (flagged). Not kept in checkpoints (a restored list
   // rebuilds).
   const std::uint32_t* near_pairs(const RveState& s, std::size_t* count);
-  static constexpr double kNearGap = 0.5;
+  static constexpr double kNearGap = 0.25;
 
  private:
   void rebuild(const RveState& s);

@@ -24,31 +24,34 @@ bool scatter_arrays(std::size_t m, const std::uint32_t* __restrict id1,
                     const ContactOut& __restrict out, double* __restrict f0, double* __restrict f1,
                     double* __restrict f2, double* __restrict t0, double* __restrict t1,
                     double* __restrict t2) {
+  if (m == 0) return false;
   bool opened = false;
-  std::size_t j = 0;
-  while (j < m) {
-    const std::uint32_t a = id1[j];
-    double fa0 = f0[a], fa1 = f1[a], fa2 = f2[a], ta0 = t0[a], ta1 = t1[a], ta2 = t2[a];
-    for (; j < m && id1[j] == a; ++j) {
-      if (pen[j] < 0) {
-        opened = true;
-        continue;
-      }
-      const std::uint32_t b = id2[j];
-      const double fx = out.f[0][j], fy = out.f[1][j], fz = out.f[2][j];
-      const double bx = out.t2[0][j], by = out.t2[1][j], bz = out.t2[2][j];
-      fa0 += fx, fa1 += fy, fa2 += fz;
-      ta0 += out.t1[0][j], ta1 += out.t1[1][j], ta2 += out.t1[2][j];
-      if (b == a) {  // a sphere touching its own image (a cell under two diameters wide)
-        fa0 -= fx, fa1 -= fy, fa2 -= fz;
-        ta0 += bx, ta1 += by, ta2 += bz;
-        continue;
-      }
-      f0[b] -= fx, f1[b] -= fy, f2[b] -= fz;
-      t0[b] += bx, t1[b] += by, t2[b] += bz;
+  std::uint32_t a = id1[0];
+  double fa0 = f0[a], fa1 = f1[a], fa2 = f2[a], ta0 = t0[a], ta1 = t1[a], ta2 = t2[a];
+  for (std::size_t j = 0; j < m; ++j) {
+    if (id1[j] != a) {  // the next run: the previous sphere's sums stored, this one's loaded
+      f0[a] = fa0, f1[a] = fa1, f2[a] = fa2, t0[a] = ta0, t1[a] = ta1, t2[a] = ta2;
+      a = id1[j];
+      fa0 = f0[a], fa1 = f1[a], fa2 = f2[a], ta0 = t0[a], ta1 = t1[a], ta2 = t2[a];
     }
-    f0[a] = fa0, f1[a] = fa1, f2[a] = fa2, t0[a] = ta0, t1[a] = ta1, t2[a] = ta2;
+    if (pen[j] < 0) {
+      opened = true;
+      continue;
+    }
+    const std::uint32_t b = id2[j];
+    const double fx = out.f[0][j], fy = out.f[1][j], fz = out.f[2][j];
+    const double bx = out.t2[0][j], by = out.t2[1][j], bz = out.t2[2][j];
+    fa0 += fx, fa1 += fy, fa2 += fz;
+    ta0 += out.t1[0][j], ta1 += out.t1[1][j], ta2 += out.t1[2][j];
+    if (b == a) {  // a sphere touching its own image (a cell under two diameters wide)
+      fa0 -= fx, fa1 -= fy, fa2 -= fz;
+      ta0 += bx, ta1 += by, ta2 += bz;
+      continue;
+    }
+    f0[b] -= fx, f1[b] -= fy, f2[b] -= fz;
+    t0[b] += bx, t1[b] += by, t2[b] += bz;
   }
+  f0[a] = fa0, f1[a] = fa1, f2[a] = fa2, t0[a] = ta0, t1[a] = ta1, t2[a] = ta2;
   return opened;
 }
 

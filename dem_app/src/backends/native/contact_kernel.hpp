@@ -55,6 +55,10 @@ void update_contacts(RveState& s, const LawConstants& k, std::size_t k0, std::si
 // moves (per thread: the next call overwrites it). nullptr without AVX-512 (the CPU's or the
 // build's, simd_clones.hpp).
 const double* pack_sphere_records(const RveState& s);
+// The Love-Weber and stiffness terms of all contacts added to lanes (measures.cpp's
+// contributions and add_to_lanes, the same bits) through freshly packed records; false
+// (lanes untouched) without AVX-512.
+bool stress_terms_records(const RveState& s, const double (&h)[3][3], double (&lanes)[15][8]);
 // update_contacts through these records (AVX-512 only).
 void update_contacts_records(RveState& s, const LawConstants& k, std::size_t k0, std::size_t m,
                              const double* rec, ContactOut& out);

@@ -70,7 +70,19 @@ MPMDEM_AVX512 inline void store_rows(double* rec, __m512d x, __m512d y, __m512d 
   _mm256_store_pd(rec + 7 * kRec, _mm512_extractf64x4_pd(s57, 1));
 }
 
-MPMDEM_AVX512 void pack(std::size_t n, const Spheres& sp, double* __restrict rec) {
+// (__builtin_cpu_init: this may run before libgcc's own initialisation)
+const bool kHaveAvx512 = (__builtin_cpu_init(), __builtin_cpu_supports("avx512f"));
+
+// The records of n spheres: per thread, not per RVE; 32-byte aligned rows.
+double* sphere_buffer(std::size_t n) {
+  thread_local std::vector<double> buf;
+  buf.resize(kRec * n + 4);
+  double* rec = buf.data();
+  return rec + (4 - (reinterpret_cast<std::uintptr_t>(rec) / sizeof(double)) % 4) % 4;
+}
+
+// all_rows false: the first row (position, radius) only.
+MPMDEM_AVX512 void pack(std::size_t n, const Spheres& sp, double* __restrict rec, bool all_rows) {
   const double* x[3] = {sp.pos.c[0].data(), sp.pos.c[1].data(), sp.pos.c[2].data()};
   const double* v[3] = {sp.vel.c[0].data(), sp.vel.c[1].data(), sp.vel.c[2].data()};
   const double* w[3] = {sp.ang_vel.c[0].data(), sp.ang_vel.c[1].data(), sp.ang_vel.c[2].data()};
@@ -81,6 +93,7 @@ MPMDEM_AVX512 void pack(std::size_t n, const Spheres& sp, double* __restrict rec
     double* r = rec + kRec * i;
     store_rows(r, _mm512_loadu_pd(x[0] + i), _mm512_loadu_pd(x[1] + i), _mm512_loadu_pd(x[2] + i),
                _mm512_loadu_pd(rad + i));
+    if (!all_rows) continue;
     store_rows(r + 4, _mm512_loadu_pd(v[0] + i), _mm512_loadu_pd(v[1] + i),
                _mm512_loadu_pd(v[2] + i), zero);
     store_rows(r + 8, _mm512_loadu_pd(w[0] + i), _mm512_loadu_pd(w[1] + i),
@@ -88,8 +101,11 @@ MPMDEM_AVX512 void pack(std::size_t n, const Spheres& sp, double* __restrict rec
   }
   for (; i < n; ++i) {
     double* r = rec + kRec * i;
-    for (int q = 0; q < 3; ++q) r[q] = x[q][i], r[4 + q] = v[q][i], r[8 + q] = w[q][i];
-    r[3] = rad[i], r[7] = 0, r[11] = 0;
+    for (int q = 0; q < 3; ++q) r[q] = x[q][i];
+    r[3] = rad[i];
+    if (!all_rows) continue;
+    for (int q = 0; q < 3; ++q) r[4 + q] = v[q][i], r[8 + q] = w[q][i];
+    r[7] = 0, r[11] = 0;
   }
 }
 
@@ -207,18 +223,96 @@ MPMDEM_AVX512 void loop(std::size_t m, const LawConstants& kc, const double* __r
   }
 }
 
+// measures.cpp's contributions (the same expressions) of contacts [0, m), added to
+// lanes[t][k mod 8] in contact order: for a group of 8 contacts, which starts at a multiple
+// of 8, one vector addition per term (masked for the last group).
+MPMDEM_AVX512 void stress_loop(std::size_t m, const double (&h)[3][3], double young, double ks_kn,
+                               const double* __restrict rec, const std::uint32_t* __restrict id1,
+                               const std::uint32_t* __restrict id2, const std::int16_t* const* cell,
+                               const double* const* nrm, const double* const* shr,
+                               const double* __restrict pen, double (&lanes)[15][8]) {
+  v8d acc[15];
+  for (int t = 0; t < 15; ++t) acc[t] = (v8d)_mm512_loadu_pd(lanes[t]);
+  const v8d zero = {};
+  for (std::size_t j = 0; j < m; j += 8) {
+    const std::size_t left = m - j;
+    const __mmask8 mask = left >= 8 ? __mmask8(0xff) : __mmask8((1u << left) - 1);
+    const double* pa[8];
+    const double* pb[8];
+    v8d ci[3];
+    if (left >= 8) {
+      for (std::size_t l = 0; l < 8; ++l) pa[l] = rec + kRec * id1[j + l];
+      for (std::size_t l = 0; l < 8; ++l) pb[l] = rec + kRec * id2[j + l];
+      for (int q = 0; q < 3; ++q) {
+        const __m128i c16 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cell[q] + j));
+        ci[q] = (v8d)_mm512_cvtepi32_pd(_mm256_cvtepi16_epi32(c16));
+      }
+    } else {
+      double cd[3][8];
+      for (std::size_t l = 0; l < 8; ++l) {  // lanes past the end repeat the last contact
+        const std::size_t jj = j + (l < left ? l : left - 1);
+        pa[l] = rec + kRec * id1[jj];
+        pb[l] = rec + kRec * id2[jj];
+        for (int q = 0; q < 3; ++q) cd[q][l] = cell[q][jj];
+      }
+      for (int q = 0; q < 3; ++q) ci[q] = (v8d)_mm512_loadu_pd(cd[q]);
+    }
+    v8d xa[3], xb[3], r1, r2, n[3], fs[3], l[3], term[15];
+    load_rows(pa, xa[0], xa[1], xa[2], r1);
+    load_rows(pb, xb[0], xb[1], xb[2], r2);
+    for (int q = 0; q < 3; ++q) {
+      n[q] = (v8d)_mm512_maskz_loadu_pd(mask, nrm[q] + j);
+      fs[q] = (v8d)_mm512_maskz_loadu_pd(mask, shr[q] + j);
+    }
+    const v8d pn = (v8d)_mm512_maskz_loadu_pd(mask, pen + j);
+    for (int q = 0; q < 3; ++q) {
+      l[q] = (xb[q] + (h[q][0] * ci[0] + h[q][1] * ci[1] + h[q][2] * ci[2])) - xa[q];
+    }
+    const v8d e1 = young * r1, e2 = young * r2;
+    const v8d kn = 2.0 * e1 * e2 / (e1 + e2);
+    const v8d ks = ks_kn * kn;
+    const v8d fn_mag = kn * (pn < zero ? zero : pn);
+    for (int i = 0; i < 3; ++i) {
+      const v8d f = fn_mag * n[i] + fs[i];
+      for (int q = 0; q < 3; ++q) term[3 * i + q] = f * -l[q];
+    }
+    const v8d l2 = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
+    const v8d fs2 = fs[0] * fs[0] + fs[1] * fs[1] + fs[2] * fs[2];
+    const v8d inv = 1.0 / fs2;
+    const v8d inv_fs2 = fs2 > zero ? inv : zero;
+    for (int i = 0; i < 3; ++i) {
+      const v8d ni2 = n[i] * n[i];
+      const v8d ti2 = fs[i] * fs[i] * inv_fs2;
+      term[9 + i] = l2 * ni2 * (kn * ni2 + ks * ti2);
+      term[12 + i] = kn * l2 * ni2;
+    }
+    for (int t = 0; t < 15; ++t) {
+      acc[t] = (v8d)_mm512_mask_add_pd((__m512d)acc[t], mask, (__m512d)acc[t], (__m512d)term[t]);
+    }
+  }
+  for (int t = 0; t < 15; ++t) _mm512_storeu_pd(lanes[t], (__m512d)acc[t]);
+}
+
 }  // namespace
 
+bool stress_terms_records(const RveState& s, const double (&h)[3][3], double (&lanes)[15][8]) {
+  if (!kHaveAvx512) return false;
+  const auto& c = s.contacts;
+  const double* rec = sphere_buffer(s.spheres.size());
+  pack(s.spheres.size(), s.spheres, const_cast<double*>(rec), false);
+  const std::int16_t* cell[3] = {c.cell.c[0].data(), c.cell.c[1].data(), c.cell.c[2].data()};
+  const double* nrm[3] = {c.normal.c[0].data(), c.normal.c[1].data(), c.normal.c[2].data()};
+  const double* shr[3] = {c.shear_force.c[0].data(), c.shear_force.c[1].data(),
+                          c.shear_force.c[2].data()};
+  stress_loop(c.size(), h, s.material.young, s.material.ks_kn, rec, c.id1.data(), c.id2.data(),
+              cell, nrm, shr, c.penetration.data(), lanes);
+  return true;
+}
+
 const double* pack_sphere_records(const RveState& s) {
-  static const bool kHave = __builtin_cpu_supports("avx512f");
-  if (!kHave) return nullptr;
-  // Per thread, not per RVE; 32-byte aligned rows.
-  thread_local std::vector<double> buf;
-  const std::size_t n = s.spheres.size();
-  buf.resize(kRec * n + 4);
-  double* rec = buf.data();
-  rec += (4 - (reinterpret_cast<std::uintptr_t>(rec) / sizeof(double)) % 4) % 4;
-  pack(n, s.spheres, rec);
+  if (!kHaveAvx512) return nullptr;
+  double* rec = sphere_buffer(s.spheres.size());
+  pack(s.spheres.size(), s.spheres, rec, true);
   return rec;
 }
 
@@ -241,6 +335,9 @@ void update_contacts_records(RveState& s, const LawConstants& k, std::size_t k0,
 
 const double* pack_sphere_records(const RveState&) {
   return nullptr;
+}
+bool stress_terms_records(const RveState&, const double (&)[3][3], double (&)[15][8]) {
+  return false;
 }
 void update_contacts_records(RveState&, const LawConstants&, std::size_t, std::size_t,
                              const double*, ContactOut&) {}

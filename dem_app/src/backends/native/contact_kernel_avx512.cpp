@@ -6,7 +6,8 @@
 // sphere's position, radius, velocity and angular velocity are read from a packed record
 // of 12 doubles (three 32-byte rows: x y z r | vx vy vz 0 | wx wy wz 0, built at the start of
 // compute_forces by pack_sphere_records) and 8 rows are transposed into 4 vectors (on this
-// AMD CPU ~3x cheaper than the gathers).
+// AMD CPU ~3x cheaper than the gathers). The stress and stiffness terms of measures.cpp go
+// the same way (stress_terms_records: its contributions and add_to_lanes, the same bits).
 #include <immintrin.h>
 
 #include <cstdint>

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <set>
@@ -103,6 +104,79 @@ TEST(NativeNeighbourList, FindsExactlyTheAllPairsContactsUnderRandomDeformation)
   // Rebuilt more than once (the skin is used up), far less often than every step.
   EXPECT_GE(nl.rebuilds(), 2);
   EXPECT_LT(nl.rebuilds(), steps / 2);
+}
+
+// near_pairs (the new-contact search's short list): while it is offered, every pair of the
+// list without a contact that overlaps is in it, also after contacts are removed; it is
+// withdrawn once the spheres have moved too far.
+TEST(NativeNeighbourList, NearPairsHoldEveryOverlapWithoutContact) {
+  CloudParams cp;
+  cp.n_spheres = 150;
+  cp.seed = 7;
+  RveState s = build_cloud(cp);
+  const double shrink = 0.8;
+  s.cell.hsize *= shrink;
+  for (auto& x : s.spheres.pos.c) {
+    for (double& v : x) v *= shrink;
+  }
+  NeighbourList nl(0.5);
+  nl.ensure(s);
+  const auto overlaps = [&](std::uint32_t i, std::size_t p) {
+    const double r = s.spheres.radius[i] + s.spheres.radius[nl.pair_j(p)];
+    const Eigen::Vector3i c = nl.pair_cell(p).cast<int>();
+    return (s.spheres.pos[nl.pair_j(p)] + s.cell.shift(c) - s.spheres.pos[i]).squaredNorm() < r * r;
+  };
+  // Every other overlapping pair becomes a contact.
+  bool take = false;
+  for (std::uint32_t i = 0; i < s.spheres.size(); ++i) {
+    for (std::size_t p = nl.row_begin(i); p < nl.row_begin(i + 1); ++p) {
+      if (!overlaps(i, p) || !(take = !take)) continue;
+      s.contacts.add(i, nl.pair_j(p), nl.pair_cell(p));
+      nl.contact_added(p);
+    }
+  }
+  ASSERT_GT(s.contacts.size(), 50u);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const double r_min = *std::min_element(s.spheres.radius.begin(), s.spheres.radius.end());
+  int offered = 0, withdrawn = 0;
+  for (int k = 0; k < 40; ++k) {
+    Eigen::Matrix3d df = Eigen::Matrix3d::Identity();
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) df(a, b) += 1e-5 * u(rng);
+    s.cell.hsize = df * s.cell.hsize;
+    const double step = (k < 20 ? 0.002 : 0.02) * r_min;  // then faster: the list withdrawn
+    for (std::size_t i = 0; i < s.spheres.size(); ++i) {
+      s.spheres.pos.set(i, df * s.spheres.pos[i] + step * Vec3(u(rng), u(rng), u(rng)));
+    }
+    if (k % 5 == 0 && s.contacts.size() > 0) {  // a contact removed (as compute_forces does)
+      nl.contact_removed(s.contacts, 0);
+      s.contacts.swap_remove(0);
+    }
+    nl.ensure(s);
+    std::size_t n_near = 0;
+    const std::uint32_t* near = nl.near_pairs(s, &n_near);
+    if (!near) {
+      ++withdrawn;
+      continue;
+    }
+    ++offered;
+    std::set<std::size_t> listed;
+    for (std::size_t q = 0; q < n_near; ++q) {
+      listed.insert(near[2 * q + 1]);
+      if (q > 0) {
+        EXPECT_LT(near[2 * q - 1], near[2 * q + 1]);  // row order
+      }
+    }
+    for (std::uint32_t i = 0; i < s.spheres.size(); ++i) {
+      for (std::size_t p = nl.row_begin(i); p < nl.row_begin(i + 1); ++p) {
+        if (nl.pair_in_contact(p) || !overlaps(i, p)) continue;
+        EXPECT_EQ(listed.count(p), 1u) << "step " << k << " pair " << p;
+      }
+    }
+  }
+  EXPECT_GT(offered, 5);
+  EXPECT_GT(withdrawn, 0);
 }
 
 }  // namespace

@@ -144,8 +144,12 @@ LawConstants law_constants(const RveState& s) {
 }
 
 void update_contacts(RveState& s, const LawConstants& k, std::size_t k0, std::size_t m,
-                     ContactOut& out) {
+                     ContactOut& out, const double* rec) {
   if (m == 0) return;
+  if (rec) {
+    update_contacts_records(s, k, k0, m, rec, out);
+    return;
+  }
   auto& c = s.contacts;
   auto& sp = s.spheres;
   StagedContacts st;

@@ -45,8 +45,22 @@ LawConstants law_constants(const RveState& s);
 
 // Updates contacts [k0, k0 + m), m <= kContactChunk: normal, penetration and shear force in
 // place; out[j] for contact k0 + j. A new contact is one with zero normal and shear force
-// (then the rotation terms vanish, as ScGeom's isNew branch).
+// (then the rotation terms vanish, as ScGeom's isNew branch). rec: the spheres' records of
+// pack_sphere_records (nullptr: the fields are gathered from the arrays); the same bits.
 void update_contacts(RveState& s, const LawConstants& k, std::size_t k0, std::size_t m,
-                     ContactOut& out);
+                     ContactOut& out, const double* rec = nullptr);
+
+// The spheres' position, radius, velocity and angular velocity packed into one record per
+// sphere, for the AVX-512 contact update (contact_kernel_avx512.cpp); valid until a sphere
+// moves (per thread: the next call overwrites it). nullptr without AVX-512 (the CPU's or the
+// build's, simd_clones.hpp).
+const double* pack_sphere_records(const RveState& s);
+// The Love-Weber and stiffness terms of all contacts added to lanes (measures.cpp's
+// contributions and add_to_lanes, the same bits) through freshly packed records; false
+// (lanes untouched) without AVX-512.
+bool stress_terms_records(const RveState& s, const double (&h)[3][3], double (&lanes)[15][8]);
+// update_contacts through these records (AVX-512 only).
+void update_contacts_records(RveState& s, const LawConstants& k, std::size_t k0, std::size_t m,
+                             const double* rec, ContactOut& out);
 
 }  // namespace mpmdem::dem::native

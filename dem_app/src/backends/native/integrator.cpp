@@ -2,6 +2,7 @@
 #include "backends/native/integrator.hpp"
 
 #include <cmath>
+#include <cstdlib>
 
 #include <algorithm>
 #include <vector>
@@ -23,31 +24,34 @@ bool scatter_arrays(std::size_t m, const std::uint32_t* __restrict id1,
                     const ContactOut& __restrict out, double* __restrict f0, double* __restrict f1,
                     double* __restrict f2, double* __restrict t0, double* __restrict t1,
                     double* __restrict t2) {
+  if (m == 0) return false;
   bool opened = false;
-  std::size_t j = 0;
-  while (j < m) {
-    const std::uint32_t a = id1[j];
-    double fa0 = f0[a], fa1 = f1[a], fa2 = f2[a], ta0 = t0[a], ta1 = t1[a], ta2 = t2[a];
-    for (; j < m && id1[j] == a; ++j) {
-      if (pen[j] < 0) {
-        opened = true;
-        continue;
-      }
-      const std::uint32_t b = id2[j];
-      const double fx = out.f[0][j], fy = out.f[1][j], fz = out.f[2][j];
-      const double bx = out.t2[0][j], by = out.t2[1][j], bz = out.t2[2][j];
-      fa0 += fx, fa1 += fy, fa2 += fz;
-      ta0 += out.t1[0][j], ta1 += out.t1[1][j], ta2 += out.t1[2][j];
-      if (b == a) {  // a sphere touching its own image (a cell under two diameters wide)
-        fa0 -= fx, fa1 -= fy, fa2 -= fz;
-        ta0 += bx, ta1 += by, ta2 += bz;
-        continue;
-      }
-      f0[b] -= fx, f1[b] -= fy, f2[b] -= fz;
-      t0[b] += bx, t1[b] += by, t2[b] += bz;
+  std::uint32_t a = id1[0];
+  double fa0 = f0[a], fa1 = f1[a], fa2 = f2[a], ta0 = t0[a], ta1 = t1[a], ta2 = t2[a];
+  for (std::size_t j = 0; j < m; ++j) {
+    if (id1[j] != a) {  // the next run: the previous sphere's sums stored, this one's loaded
+      f0[a] = fa0, f1[a] = fa1, f2[a] = fa2, t0[a] = ta0, t1[a] = ta1, t2[a] = ta2;
+      a = id1[j];
+      fa0 = f0[a], fa1 = f1[a], fa2 = f2[a], ta0 = t0[a], ta1 = t1[a], ta2 = t2[a];
     }
-    f0[a] = fa0, f1[a] = fa1, f2[a] = fa2, t0[a] = ta0, t1[a] = ta1, t2[a] = ta2;
+    if (pen[j] < 0) {
+      opened = true;
+      continue;
+    }
+    const std::uint32_t b = id2[j];
+    const double fx = out.f[0][j], fy = out.f[1][j], fz = out.f[2][j];
+    const double bx = out.t2[0][j], by = out.t2[1][j], bz = out.t2[2][j];
+    fa0 += fx, fa1 += fy, fa2 += fz;
+    ta0 += out.t1[0][j], ta1 += out.t1[1][j], ta2 += out.t1[2][j];
+    if (b == a) {  // a sphere touching its own image (a cell under two diameters wide)
+      fa0 -= fx, fa1 -= fy, fa2 -= fz;
+      ta0 += bx, ta1 += by, ta2 += bz;
+      continue;
+    }
+    f0[b] -= fx, f1[b] -= fy, f2[b] -= fz;
+    t0[b] += bx, t1[b] += by, t2[b] += bz;
   }
+  f0[a] = fa0, f1[a] = fa1, f2[a] = fa2, t0[a] = ta0, t1[a] = ta1, t2[a] = ta2;
   return opened;
 }
 
@@ -84,6 +88,46 @@ std::size_t next_overlap(const RveState& s, const NeighbourList& nl,
   return p;
 }
 
+// Pair p of sphere a overlaps: its contact (zero normal and shear force) is updated and its
+// forces added, or dropped if it opened again.
+void add_contact(RveState& s, NeighbourList& nl, const LawConstants& law, const double* rec,
+                 std::uint32_t a, std::size_t p, ContactOut& out) {
+  auto& c = s.contacts;
+  const std::size_t k = c.add(a, nl.pair_j(p), nl.pair_cell(p));
+  update_contacts(s, law, k, 1, out, rec);
+  if (c.penetration[k] < 0) {
+    c.swap_remove(k);
+    return;
+  }
+  scatter(s, k, 1, out);
+  nl.contact_added(p);
+}
+
+// The same over the list of near_pairs from its entry q: the first entry whose pair has no
+// contact and overlaps now, end if none.
+std::size_t next_near_overlap(const RveState& s, const NeighbourList& nl,
+                              const double* __restrict shifts, const std::uint32_t* __restrict near,
+                              std::size_t q, std::size_t end) {
+  const auto& sp = s.spheres;
+  const double* __restrict x0 = sp.pos.c[0].data();
+  const double* __restrict x1 = sp.pos.c[1].data();
+  const double* __restrict x2 = sp.pos.c[2].data();
+  const double* __restrict rad = sp.radius.data();
+  const std::uint32_t* __restrict pj = nl.pair_j_flagged();
+  const std::uint16_t* __restrict pc = nl.pair_cell_indices();
+  for (; q < end; ++q) {
+    const std::uint32_t a = near[2 * q], p = near[2 * q + 1];
+    const std::uint32_t j = pj[p];
+    if (j & NeighbourList::kInContact) continue;
+    const double* h = shifts + 3 * pc[p];
+    const double d0 = (x0[j] + h[0]) - x0[a], d1 = (x1[j] + h[1]) - x1[a],
+                 d2 = (x2[j] + h[2]) - x2[a];
+    const double r = rad[a] + rad[j];
+    if (r * r - ((d0 * d0 + d1 * d1) + d2 * d2) >= 0) break;
+  }
+  return q;
+}
+
 }  // namespace
 
 void compute_forces(RveState& s, NeighbourList& nl) {
@@ -96,11 +140,12 @@ void compute_forces(RveState& s, NeighbourList& nl) {
   auto& c = s.contacts;
   const LawConstants law = law_constants(s);
   ContactOut out;
+  const double* rec = pack_sphere_records(s);  // nullptr: no AVX-512
   // Existing contacts, a chunk at a time: update (vectorised), then forces in contact order.
   bool opened = false;
   for (std::size_t k0 = 0; k0 < c.size(); k0 += kContactChunk) {
     const std::size_t m = std::min(kContactChunk, c.size() - k0);
-    update_contacts(s, law, k0, m, out);
+    update_contacts(s, law, k0, m, out, rec);
     opened |= scatter(s, k0, m, out);
   }
   // Contacts that opened are removed (YADE erases them), keeping the others' order.
@@ -126,20 +171,33 @@ void compute_forces(RveState& s, NeighbourList& nl) {
     const Vec3 h = s.cell.shift(nl.cells()[q]);
     shifts[3 * q] = h[0], shifts[3 * q + 1] = h[1], shifts[3 * q + 2] = h[2];
   }
-  for (std::uint32_t a = 0; a < sp.size(); ++a) {
-    const std::size_t row_end = nl.row_begin(a + 1);
-    for (std::size_t p = nl.row_begin(a); p < row_end; ++p) {
-      p = next_overlap(s, nl, shifts.data(), a, p, row_end);
-      if (p == row_end) break;
-      const std::uint32_t b = nl.pair_j(p);
-      const std::size_t k = c.add(a, b, nl.pair_cell(p));  // zero normal and shear force
-      update_contacts(s, law, k, 1, out);
-      if (c.penetration[k] < 0) {
-        c.swap_remove(k);
-        continue;
+  // Only the pairs that can overlap (NeighbourList::near_pairs, in row order) when the
+  // spheres have moved little since the list's build, else every row.
+  std::size_t n_near = 0;
+  if (const std::uint32_t* near = nl.near_pairs(s, &n_near)) {
+    for (std::size_t q = 0; q < n_near; ++q) {
+      q = next_near_overlap(s, nl, shifts.data(), near, q, n_near);
+      if (q == n_near) break;
+      add_contact(s, nl, law, rec, near[2 * q], near[2 * q + 1], out);
+    }
+#ifdef MPMDEM_CHECK_NEAR  // debugging: every pair that overlaps now without a contact is listed
+    for (std::uint32_t a = 0; a < sp.size(); ++a) {
+      for (std::size_t p = nl.row_begin(a); p < nl.row_begin(a + 1); ++p) {
+        if (next_overlap(s, nl, shifts.data(), a, p, p + 1) != p) continue;
+        bool listed = false;
+        for (std::size_t q = 0; q < n_near; ++q) listed |= near[2 * q + 1] == p;
+        if (!listed) std::abort();
       }
-      scatter(s, k, 1, out);
-      nl.contact_added(p);
+    }
+#endif
+  } else {
+    for (std::uint32_t a = 0; a < sp.size(); ++a) {
+      const std::size_t row_end = nl.row_begin(a + 1);
+      for (std::size_t p = nl.row_begin(a); p < row_end; ++p) {
+        p = next_overlap(s, nl, shifts.data(), a, p, row_end);
+        if (p == row_end) break;
+        add_contact(s, nl, law, rec, a, p, out);
+      }
     }
   }
   // The new contacts (in the order of their first sphere) into their places, the contacts

@@ -83,9 +83,11 @@ StressStiffness stress_and_stiffness(const RveState& s, bool stiffness) {
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b) h[a][b] = s.cell.hsize(a, b);
   double lanes[kTerms][kLanes] = {};
+  static_assert(kTerms == 15 && kLanes == 8, "stress_terms_records' lanes");
   Contributions out;
   StagedContacts st;
-  for (std::size_t k0 = 0; k0 < c.size(); k0 += kChunk) {
+  const bool done = stress_terms_records(s, h, lanes);  // with AVX-512
+  for (std::size_t k0 = 0; !done && k0 < c.size(); k0 += kChunk) {
     const std::size_t m = std::min(kChunk, c.size() - k0);
     stage_contacts(s, k0, m, st);
     contributions(m, h, s.material.young, s.material.ks_kn, &st, c.normal.c[0].data() + k0,

@@ -30,9 +30,8 @@ void NeighbourList::ensure(const RveState& s) {
 #endif
     // |x - x_ref| <= |x - (single) x_ref| + its rounding at the build.
     const double strain = ((s.cell.hsize - h_ref_) * h_ref_inv_).norm();
-    if (2 * (std::sqrt(max_d2) + ref_rounding_) + strain * (extent_ + max_cutoff_) < skin_) {
-      return;
-    }
+    motion_ = 2 * (std::sqrt(max_d2) + ref_rounding_) + strain * (extent_ + max_cutoff_);
+    if (motion_ < skin_) return;
   }
   rebuild(s);
 }
@@ -40,6 +39,7 @@ void NeighbourList::ensure(const RveState& s) {
 void NeighbourList::rebuild(const RveState& s) {
   ++rebuilds_;
   valid_ = true;
+  near_stale_ = true;
   moved_iter_ = -1;
   const auto& sp = s.spheres;
   const std::size_t n = sp.size();
@@ -57,7 +57,8 @@ void NeighbourList::rebuild(const RveState& s) {
     x_ref_[i] = sp.pos[i].cast<float>();
     ref_rounding_ = std::max(ref_rounding_, (sp.pos[i] - x_ref_[i].cast<double>()).norm());
   }
-  ref_rounding_ *= 1 + 1e-6;  // the rounding of the norm itself
+  ref_rounding_ *= 1 + 1e-6;    // the rounding of the norm itself
+  motion_ = 4 * ref_rounding_;  // 2 (max_i |x_i - x_ref_i| + rounding), no strain yet
   Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 x = sp.pos[i];
@@ -164,7 +165,7 @@ std::int64_t NeighbourList::find(std::uint32_t a, std::uint32_t b, const CellDis
 
 std::size_t NeighbourList::heap_bytes() const {
   return x_ref_.capacity() * sizeof(Eigen::Vector3f) +
-         (row_.capacity() + pair_j_.capacity()) * sizeof(std::uint32_t) +
+         (row_.capacity() + pair_j_.capacity() + near_.capacity()) * sizeof(std::uint32_t) +
          pair_cell_.capacity() * sizeof(std::uint16_t) + cells_.capacity() * sizeof(CellDist);
 }
 
@@ -177,6 +178,50 @@ void NeighbourList::contact_removed(const Contacts& c, std::size_t k) {
   const std::int64_t p = find(c.id1[k], c.id2[k], c.cell[k]);
   if (p >= 0) pair_j_[p] &= ~kInContact;
   --n_contacts_;
+  if (p < 0 || near_stale_) return;
+  // Its pair without a contact now: into the near pairs, in row order (p ascending).
+  std::size_t q = 0, end = near_.size() / 2;
+  while (q < end) {  // binary search for the first entry with a larger pair index
+    const std::size_t mid = (q + end) / 2;
+    if (near_[2 * mid + 1] < p) {
+      q = mid + 1;
+    } else {
+      end = mid;
+    }
+  }
+  const std::uint32_t entry[2] = {std::min(c.id1[k], c.id2[k]), static_cast<std::uint32_t>(p)};
+  if (near_.size() == near_.capacity()) near_.reserve(near_.size() + near_.size() / 8 + 16);
+  near_.insert(near_.begin() + static_cast<std::ptrdiff_t>(2 * q), entry, entry + 2);
+}
+
+const std::uint32_t* NeighbourList::near_pairs(const RveState& s, std::size_t* count) {
+  const double gap = kNearGap * skin_;
+  if (!valid_ || !(motion_ < gap)) return nullptr;
+  if (near_stale_) {
+    const auto& r = s.spheres.radius;
+    const double limit = gap * (1 + 1e-6);  // covers the rounding of the distances below
+    const auto near = [&](std::uint32_t i, std::uint32_t p) {
+      if (pair_j_[p] & kInContact) return false;
+      const std::uint32_t j = pair_j_[p];
+      const Vec3 d = (x_ref_[j].cast<double>() + h_ref_ * cells_[pair_cell_[p]].cast<double>()) -
+                     x_ref_[i].cast<double>();
+      return d.norm() - (r[i] + r[j]) < limit;
+    };
+    std::size_t listed = 0;  // sized exactly (a removal's insertion grows it by 1/8)
+    for (std::uint32_t i = 0; i + 1 < row_.size(); ++i) {
+      for (std::uint32_t p = row_[i]; p < row_[i + 1]; ++p) listed += near(i, p);
+    }
+    std::vector<std::uint32_t>().swap(near_);
+    near_.reserve(2 * listed);
+    for (std::uint32_t i = 0; i + 1 < row_.size(); ++i) {
+      for (std::uint32_t p = row_[i]; p < row_[i + 1]; ++p) {
+        if (near(i, p)) near_.push_back(i), near_.push_back(p);
+      }
+    }
+    near_stale_ = false;
+  }
+  *count = near_.size() / 2;
+  return near_.data();
 }
 
 }  // namespace mpmdem::dem::native

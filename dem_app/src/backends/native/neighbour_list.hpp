@@ -57,6 +57,15 @@ class NeighbourList {
   // contact, contact_removed before Contacts::swap_remove of contact k.
   void contact_added(std::size_t p);
   void contact_removed(const Contacts& c, std::size_t k);
+  // The pairs without a contact that can overlap now, (a, p) per pair in row order (a: the
+  // pair's first sphere), count of them in *count; nullptr (scan all rows) unless the bound on
+  // the motion since the build that ensure() computed is below kNearGap skins: a pair whose
+  // gap at the reference positions, |x_j,ref + H_ref c - x_i,ref| - r_i - r_j, is at least
+  // that cannot overlap. Derived at each rebuild; a removed contact's pair is inserted, a
+  // contact added keeps its pair here (flagged). Not kept in checkpoints (a restored list
+  // rebuilds).
+  const std::uint32_t* near_pairs(const RveState& s, std::size_t* count);
+  static constexpr double kNearGap = 0.25;
 
  private:
   void rebuild(const RveState& s);
@@ -71,6 +80,9 @@ class NeighbourList {
   double moved_max_d2_ = 0;  // max_i |x_i - x_ref_i|^2 from Newton, valid at moved_iter_
   std::int64_t moved_iter_ = -1;
   std::size_t n_contacts_ = 0;  // contacts of the RVE as the list last saw them
+  double motion_ = 0;  // ensure()'s bound on the change of a pair's separation since the build
+  bool near_stale_ = true;
+  std::vector<std::uint32_t> near_;  // near_pairs: (a, p) per pair
   Eigen::Matrix3d h_ref_ = Eigen::Matrix3d::Identity();
   Eigen::Matrix3d h_ref_inv_ = Eigen::Matrix3d::Identity();
   std::vector<Eigen::Vector3f> x_ref_;

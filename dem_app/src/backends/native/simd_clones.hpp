@@ -7,6 +7,9 @@
 #if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
 #define MPMDEM_SIMD_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
 #define MPMDEM_ALWAYS_INLINE inline __attribute__((always_inline))
+// The contact update written for AVX-512 (contact_kernel_avx512.cpp), used when the CPU has
+// it; drop this line together with "avx512f" above for a build without AVX-512 code.
+#define MPMDEM_AVX512_KERNEL 1
 #else
 #define MPMDEM_SIMD_CLONES
 #define MPMDEM_ALWAYS_INLINE inline

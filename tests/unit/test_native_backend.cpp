@@ -213,3 +213,26 @@ TEST(NativeBackend, CorruptStateIsRefused) {
 }
 
 }  // namespace
+
+// An RVE that cannot reach its stress in consolidation_max_steps stops the run (the message
+// names the stress and the key), unless consolidation_on_failure is warn: then the RVE is kept
+// as reached. Here the goal is 10 MPa: the 40-sphere cloud reaches it in ~34,000 steps and
+// is in contact, at ~0.5 kPa, after 25,000.
+TEST(NativeBackend, ConsolidationThatDoesNotConvergeStopsOrIsKept) {
+  dem::NativeParams p = params();
+  p.consolidation_max_steps = 25000;
+  const double goal = 1.0e7;
+  RveReply init[1];
+  try {
+    make(0, 1, goal, init, p);
+    ADD_FAILURE() << "expected the consolidation to fail";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("consolidation_max_steps"), std::string::npos) << e.what();
+  }
+  p.consolidation_warn = true;
+  auto b = make(0, 1, goal, init, p);
+  EXPECT_EQ(init[0].status, 0);
+  const double mean = -(init[0].stress[0] + init[0].stress[4] + init[0].stress[8]) / 3.0;
+  EXPECT_GT(mean, 0.0);          // in contact, in compression
+  EXPECT_LT(mean, 0.98 * goal);  // but not at the goal
+}

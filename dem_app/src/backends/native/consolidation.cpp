@@ -46,6 +46,7 @@ long consolidate(RveState& s, NeighbourList& nl, const Eigen::Vector3d& goal,
     for (int i = 0; i < 3; ++i) err = std::max(err, std::abs(sigma(i, i) - goal[i]) / scale);
     if (err < p.stress_tol && unbalanced_force(s) < p.unbalanced_tol) return step + 100;
   }
+  if (p.keep_on_failure) return -p.max_steps;
   throw std::runtime_error("consolidation to (" + std::to_string(goal[0]) + ", " +
                            std::to_string(goal[1]) + ", " + std::to_string(goal[2]) +
                            ") Pa did not converge in " + std::to_string(p.max_steps) +

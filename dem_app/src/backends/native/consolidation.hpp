@@ -22,9 +22,12 @@ struct ConsolidationParams {
   long max_steps = 200000;
   double max_strain_rate = 10.0;  // [1/s]
   double damping = 0.2;
+  bool keep_on_failure = false;  // return instead of throwing when max_steps does not suffice
 };
 
-// Returns the DEM steps used; throws std::runtime_error if max_steps does not suffice.
+// Returns the DEM steps used, or -max_steps when it did not converge and keep_on_failure is
+// set (the RVE stays as reached); throws std::runtime_error if max_steps does not suffice and
+// keep_on_failure is not set.
 long consolidate(RveState& s, NeighbourList& nl, const Eigen::Vector3d& goal,
                  const ConsolidationParams& p);
 void finish_preparation(RveState& s, NeighbourList& nl, double damping);

@@ -89,9 +89,10 @@ void NativeBackend::initialise(const protocol::RveInit* init, protocol::RveReply
   cp.unbalanced_tol = p_.consolidation_unbalanced;
   cp.max_steps = p_.consolidation_max_steps;
   cp.damping = p_.damping;
+  cp.keep_on_failure = p_.consolidation_warn;
   const auto t0 = std::chrono::steady_clock::now();
   long consolidation_steps = 0, consolidation_max = 0;
-  std::size_t consolidated = 0;
+  std::size_t consolidated = 0, not_converged = 0;
   for (std::size_t k = 0; k < ctx_.n_rve; ++k) {
     const Eigen::Vector3d goal(init[k].stress[0], init[k].stress[4], init[k].stress[8]);
     const double mean = goal.sum() / 3.0;
@@ -99,10 +100,12 @@ void NativeBackend::initialise(const protocol::RveInit* init, protocol::RveReply
     lists_.emplace_back(p_.verlet_skin);
     RveRecord& r = rves_.back();
     if (goal.cwiseAbs().maxCoeff() > 0) {
-      const long n = native::consolidate(r.state, lists_.back(), goal, cp);
+      const long result = native::consolidate(r.state, lists_.back(), goal, cp);
+      const long n = std::abs(result);  // < 0: not converged (consolidation_on_failure: warn)
       consolidation_steps += n;
       consolidation_max = std::max(consolidation_max, n);
       ++consolidated;
+      if (result < 0) ++not_converged;
     }
     native::finish_preparation(r.state, lists_.back(), p_.damping);
     r.unbalanced = native::unbalanced_force(r.state);
@@ -122,7 +125,13 @@ void NativeBackend::initialise(const protocol::RveInit* init, protocol::RveReply
   std::cerr << "dem_app rank " << ctx_.rank << ": prepared " << ctx_.n_rve << " RVEs in " << seconds
             << " s; " << consolidated << " consolidated, DEM steps mean "
             << (consolidated ? consolidation_steps / static_cast<long>(consolidated) : 0)
-            << ", max " << consolidation_max << std::endl;
+            << ", max " << consolidation_max;
+  if (not_converged > 0) {
+    std::cerr << "; WARNING: " << not_converged << " did not reach their stress within "
+              << cp.max_steps
+              << " steps and are kept as reached (coupling.native.consolidation_on_failure: warn)";
+  }
+  std::cerr << std::endl;
 }
 
 int NativeBackend::n_substeps(const double* dF) const {
@@ -383,6 +392,7 @@ NativeParams native_params(const config::Config& cfg) {
   p.consolidation_unbalanced = cfg.number("coupling.native.consolidation_unbalanced");
   p.consolidation_max_steps =
       static_cast<long>(cfg.integer("coupling.native.consolidation_max_steps"));
+  p.consolidation_warn = cfg.string("coupling.native.consolidation_on_failure") == "warn";
   p.verlet_skin = cfg.number("coupling.native.verlet_skin");
   return p;
 }

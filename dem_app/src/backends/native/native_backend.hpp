@@ -31,6 +31,7 @@ struct NativeParams {
   bool stiffness = true;
   double consolidation_tol = 1e-3, consolidation_unbalanced = 0.01;
   long consolidation_max_steps = 200000;
+  bool consolidation_warn = false;  // consolidation_on_failure: warn
   double verlet_skin = 0.5;
 };
 

@@ -114,6 +114,34 @@ MPMDEM_AVX512 inline v8d vsqrt(v8d x) {
   return (v8d)_mm512_sqrt_pd((__m512d)x);
 }
 
+// The chunk of contacts [j, j + 8) of [0, m): the record pointers of both spheres and the
+// image offsets as doubles; lanes past the end repeat the last contact. Returns the mask of
+// the lanes inside [0, m).
+MPMDEM_AVX512 inline __attribute__((always_inline)) __mmask8 chunk(
+    std::size_t j, std::size_t m, const double* __restrict rec, const std::uint32_t* __restrict id1,
+    const std::uint32_t* __restrict id2, const std::int16_t* const* cell, const double* (&pa)[8],
+    const double* (&pb)[8], v8d (&ci)[3]) {
+  const std::size_t left = m - j;
+  if (left >= 8) {
+    for (std::size_t l = 0; l < 8; ++l) pa[l] = rec + kRec * id1[j + l];
+    for (std::size_t l = 0; l < 8; ++l) pb[l] = rec + kRec * id2[j + l];
+    for (int q = 0; q < 3; ++q) {
+      const __m128i c16 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cell[q] + j));
+      ci[q] = (v8d)_mm512_cvtepi32_pd(_mm256_cvtepi16_epi32(c16));
+    }
+    return __mmask8(0xff);
+  }
+  double cd[3][8];
+  for (std::size_t l = 0; l < 8; ++l) {
+    const std::size_t jj = j + (l < left ? l : left - 1);
+    pa[l] = rec + kRec * id1[jj];
+    pb[l] = rec + kRec * id2[jj];
+    for (int q = 0; q < 3; ++q) cd[q][l] = cell[q][jj];
+  }
+  for (int q = 0; q < 3; ++q) ci[q] = (v8d)_mm512_loadu_pd(cd[q]);
+  return __mmask8((1u << left) - 1);
+}
+
 // Contacts [0, m) of the arrays (offset to the chunk by the caller); see contact_loop.
 MPMDEM_AVX512 void loop(std::size_t m, const LawConstants& kc, const double* __restrict rec,
                         const std::uint32_t* __restrict id1, const std::uint32_t* __restrict id2,
@@ -121,28 +149,10 @@ MPMDEM_AVX512 void loop(std::size_t m, const LawConstants& kc, const double* __r
                         double* __restrict pen_out, ContactOut* __restrict out) {
   const LawConstants k = kc;
   for (std::size_t j = 0; j < m; j += 8) {
-    const std::size_t left = m - j;
-    const __mmask8 mask = left >= 8 ? __mmask8(0xff) : __mmask8((1u << left) - 1);
     const double* pa[8];
     const double* pb[8];
     v8d ci[3];
-    if (left >= 8) {
-      for (std::size_t l = 0; l < 8; ++l) pa[l] = rec + kRec * id1[j + l];
-      for (std::size_t l = 0; l < 8; ++l) pb[l] = rec + kRec * id2[j + l];
-      for (int q = 0; q < 3; ++q) {
-        const __m128i c16 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cell[q] + j));
-        ci[q] = (v8d)_mm512_cvtepi32_pd(_mm256_cvtepi16_epi32(c16));
-      }
-    } else {
-      double cd[3][8];
-      for (std::size_t l = 0; l < 8; ++l) {  // lanes past the end repeat the last contact
-        const std::size_t jj = j + (l < left ? l : left - 1);
-        pa[l] = rec + kRec * id1[jj];
-        pb[l] = rec + kRec * id2[jj];
-        for (int q = 0; q < 3; ++q) cd[q][l] = cell[q][jj];
-      }
-      for (int q = 0; q < 3; ++q) ci[q] = (v8d)_mm512_loadu_pd(cd[q]);
-    }
+    const __mmask8 mask = chunk(j, m, rec, id1, id2, cell, pa, pb, ci);
     v8d xa[3], xb[3], va[3], vb[3], w1[3], w2[3], r1, r2, unused;
     load_rows(pa, xa[0], xa[1], xa[2], r1);
     load_rows(pb, xb[0], xb[1], xb[2], r2);
@@ -236,28 +246,10 @@ MPMDEM_AVX512 void stress_loop(std::size_t m, const double (&h)[3][3], double yo
   for (int t = 0; t < 15; ++t) acc[t] = (v8d)_mm512_loadu_pd(lanes[t]);
   const v8d zero = {};
   for (std::size_t j = 0; j < m; j += 8) {
-    const std::size_t left = m - j;
-    const __mmask8 mask = left >= 8 ? __mmask8(0xff) : __mmask8((1u << left) - 1);
     const double* pa[8];
     const double* pb[8];
     v8d ci[3];
-    if (left >= 8) {
-      for (std::size_t l = 0; l < 8; ++l) pa[l] = rec + kRec * id1[j + l];
-      for (std::size_t l = 0; l < 8; ++l) pb[l] = rec + kRec * id2[j + l];
-      for (int q = 0; q < 3; ++q) {
-        const __m128i c16 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cell[q] + j));
-        ci[q] = (v8d)_mm512_cvtepi32_pd(_mm256_cvtepi16_epi32(c16));
-      }
-    } else {
-      double cd[3][8];
-      for (std::size_t l = 0; l < 8; ++l) {  // lanes past the end repeat the last contact
-        const std::size_t jj = j + (l < left ? l : left - 1);
-        pa[l] = rec + kRec * id1[jj];
-        pb[l] = rec + kRec * id2[jj];
-        for (int q = 0; q < 3; ++q) cd[q][l] = cell[q][jj];
-      }
-      for (int q = 0; q < 3; ++q) ci[q] = (v8d)_mm512_loadu_pd(cd[q]);
-    }
+    const __mmask8 mask = chunk(j, m, rec, id1, id2, cell, pa, pb, ci);
     v8d xa[3], xb[3], r1, r2, n[3], fs[3], l[3], term[15];
     load_rows(pa, xa[0], xa[1], xa[2], r1);
     load_rows(pb, xb[0], xb[1], xb[2], r2);

@@ -15,12 +15,16 @@ struct Energies {
 };
 
 // Serial sums in point order, so the figures do not depend on the thread count.
+inline double kinetic_energy(const Particles& p) {
+  double E_k = 0.0;
+  for (std::size_t q = 0; q < p.size(); ++q) E_k += 0.5 * p.m[q] * p.v[q].squaredNorm();
+  return E_k;
+}
+
 inline Energies compute_energies(const Particles& p, const Vec3& gravity) {
   Energies e;
-  for (std::size_t q = 0; q < p.size(); ++q) {
-    e.E_p -= p.m[q] * gravity.dot(p.x[q]);
-    e.E_k += 0.5 * p.m[q] * p.v[q].squaredNorm();
-  }
+  for (std::size_t q = 0; q < p.size(); ++q) e.E_p -= p.m[q] * gravity.dot(p.x[q]);
+  e.E_k = kinetic_energy(p);
   for (double w : p.strain_energy) e.E_strain += w;
   return e;
 }

@@ -28,31 +28,26 @@ void GridWork::before_update(const Grid& grid, const Vec3& gravity, double dampi
 void GridWork::after_bc(const Grid& grid, double dt, EnergyBudget& budget) const {
   const double floor = grid.mass_floor;
   const bool damped = f_damp_.size() == grid.size();
-  double w_damp = 0.0, w_bc = 0.0;
+  double w_damp = 0.0, w_bc = 0.0, e_k = 0.0;
   for (std::size_t i = 0; i < grid.size(); ++i) {
     const double m = grid.m_i[i];
     if (!(m > floor)) continue;
     const Vec3 v_mean = 0.5 * (grid.v0_i[i] + grid.v_i[i]);
     if (damped) w_damp -= dt * f_damp_[i].dot(v_mean);
     w_bc += m * (v_free_[i] - grid.v_i[i]).dot(v_mean);
+    e_k += 0.5 * m * grid.v_i[i].squaredNorm();
   }
   budget.W_damp += w_damp;
   budget.W_bc += w_bc;
+  budget.W_transfer += e_k;
 }
 
-double point_kinetic_energy(const Particles& p) {
-  double e = 0.0;
-  for (std::size_t q = 0; q < p.size(); ++q) e += 0.5 * p.m[q] * p.v[q].squaredNorm();
-  return e;
-}
-
-double grid_kinetic_energy(const Grid& grid, bool from_velocity) {
+double grid_kinetic_energy(const Grid& grid) {
   const double floor = grid.mass_floor;
   double e = 0.0;
   for (std::size_t i = 0; i < grid.size(); ++i) {
     const double m = grid.m_i[i];
-    if (!(m > floor)) continue;
-    e += from_velocity ? 0.5 * m * grid.v_i[i].squaredNorm() : 0.5 * grid.mv_i[i].squaredNorm() / m;
+    if (m > floor) e += 0.5 * grid.mv_i[i].squaredNorm() / m;
   }
   return e;
 }

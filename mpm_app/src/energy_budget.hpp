@@ -42,16 +42,15 @@ struct EnergyBudget {
   double W_transfer = 0.0;  // [J], included in E_err
 };
 
-// sum_p 1/2 m_p |v_p|^2 (the points' kinetic energy, serial sum in point order).
-double point_kinetic_energy(const Particles& p);
-// sum_i 1/2 |mv_i|^2 / m_i over the nodes above the mass floor, from the momentum (after
-// P2G) or, with from_velocity, sum_i 1/2 m_i |v_i|^2 (after the update and the walls).
-double grid_kinetic_energy(const Grid& grid, bool from_velocity);
+// sum_i 1/2 |mv_i|^2 / m_i over the nodes above the mass floor: the grid's kinetic energy as
+// P2G left it (the points' is kinetic_energy(), energies.hpp).
+double grid_kinetic_energy(const Grid& grid);
 
 // The grid part of the budget, measured around grid_update() and the boundary conditions:
 // before_update() with the grid as P2G left it and grid_update()'s arguments; before_bc()
 // after grid_update(); after_bc() after the walls and constraints: adds W_damp and W_bc of
-// the step to `budget`.
+// the step to `budget`, and to budget.W_transfer the grid's kinetic energy
+// sum_i 1/2 m_i |v_i|^2 that G2P then transfers back.
 class GridWork {
  public:
   void before_update(const Grid& grid, const Vec3& gravity, double damping);

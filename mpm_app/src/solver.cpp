@@ -256,7 +256,10 @@ void Solver::step() {
       step_with<LinearShape>(stencils_linear_, dt);
     }
   } catch (...) {
-    if (restorable && step_ == before) p_ = step_start_;  // else the step's state is whole
+    if (restorable && step_ == before) {  // else the step's state is whole
+      p_ = step_start_;
+      E_k_points_ = -1.0;
+    }
     throw;
   }
 }
@@ -275,9 +278,10 @@ void Solver::step_with(Stencils<Shape::kWidth>& stencils, double dt) {
   compute_stencils<Shape>(grid_, p_.x, stencils);
   // Project mass, momentum and internal force to the grid.
   EnergyBudget step_work;  // W_damp, W_bc, W_transfer of this step
-  step_work.W_transfer = point_kinetic_energy(p_);
+  // The points' velocities are the last G2P's unless points were removed or restored since.
+  step_work.W_transfer = E_k_points_ >= 0.0 ? E_k_points_ : kinetic_energy(p_);
   p2g(p_, stencils, grid_, sp.transfer, buffers_);
-  step_work.W_transfer -= grid_kinetic_energy(grid_, false);
+  step_work.W_transfer -= grid_kinetic_energy(grid_);
   const auto t1 = Clock::now();
   // Integrate the grid momentum; enforce walls and velocity constraints.
   grid_work_.before_update(grid_, sp.gravity, sp.local_damping);
@@ -285,13 +289,13 @@ void Solver::step_with(Stencils<Shape::kWidth>& stencils, double dt) {
   grid_work_.before_bc(grid_);
   bc_.apply(grid_.v_i);
   grid_work_.after_bc(grid_, dt, step_work);
-  step_work.W_transfer += grid_kinetic_energy(grid_, true);
   if (sp.transfer == Transfer::kXPIC) xpic_velocity(p_, stencils, grid_, sp.xpic_order, buffers_);
   const auto t2 = Clock::now();
   // Update point velocities (APIC or PIC/FLIP) and positions; MUSL re-projects the momentum.
   const bool musl = sp.scheme == Scheme::kMUSL;
   g2p(p_, stencils, grid_, sp.transfer, flip_fraction(sp, dt), dt, musl, buffers_);
-  step_work.W_transfer -= point_kinetic_energy(p_);
+  E_k_points_ = kinetic_energy(p_);
+  step_work.W_transfer -= E_k_points_;
   if (musl) {
     grid_velocity_from_momentum(grid_);
     bc_.apply(grid_.v_i);
@@ -459,6 +463,7 @@ void Solver::handle_points_outside_grid() {
 }
 
 void Solver::remove_points(const std::vector<char>& keep) {
+  E_k_points_ = -1.0;
   compact(p_.id, keep);
   compact(p_.region, keep);
   compact(p_.m, keep);

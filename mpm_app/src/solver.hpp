@@ -164,6 +164,9 @@ class Solver {
   std::int64_t step_ = 0;
   double E_p0_ = 0.0;
   EnergyBudget budget_;
+  // Kinetic energy of the points after the last G2P, the start of the next step's W_transfer
+  // (< 0: not known, after a restart, a restored step or removed points).
+  double E_k_points_ = -1.0;
   GridWork grid_work_;
   std::size_t removed_ = 0;
   std::int64_t no_contact_updates_ = 0;

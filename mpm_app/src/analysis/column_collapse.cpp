@@ -133,7 +133,7 @@ ColumnCollapseMonitor::ColumnCollapseMonitor(const Scene& scene)
 
 bool ColumnCollapseMonitor::observe_rest(double time, const Particles& p) {
   if (!rest_ || !release_time_ || rest_->at_rest()) return false;
-  const double E_k = compute_energies(p, Vec3(0.0, 0.0, -g_.g)).E_k;
+  const double E_k = kinetic_energy(p);
   const double ratio =
       E_p0_release_ > 0.0 ? E_k / E_p0_release_ : std::numeric_limits<double>::quiet_NaN();
   return rest_->update(time - *release_time_, ratio);
@@ -224,7 +224,7 @@ double ColumnCollapseMonitor::time_over_t_star(double time) const {
 std::vector<std::pair<std::string, double>> ColumnCollapseMonitor::figures(
     double time, const Particles& p) const {
   const DepositShape d = measure_deposit(g_, p);
-  const double E_k = compute_energies(p, Vec3(0.0, 0.0, -g_.g)).E_k;
+  const double E_k = kinetic_energy(p);
   const double E_p = potential_energy_above_base(g_, p);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double E_d = E_p0_release_ - E_p - E_k;

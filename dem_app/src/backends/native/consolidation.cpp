@@ -18,10 +18,10 @@ namespace {
 constexpr double kRelaxSteps = 5;
 }  // namespace
 
-long consolidate(RveState& s, NeighbourList& nl, const Eigen::Vector3d& goal,
-                 const ConsolidationParams& p) {
+Consolidation consolidate(RveState& s, NeighbourList& nl, const Eigen::Vector3d& goal,
+                          const ConsolidationParams& p) {
   const double scale = goal.cwiseAbs().maxCoeff();
-  if (!(scale > 0)) return 0;
+  if (!(scale > 0)) return {};
   for (long step = 0; step < p.max_steps; step += 100) {
     for (int k = 0; k < 100; ++k) {
       // The strain rate that would close the gap in kRelaxSteps steps at the network's
@@ -44,9 +44,9 @@ long consolidate(RveState& s, NeighbourList& nl, const Eigen::Vector3d& goal,
     const Eigen::Matrix3d sigma = love_weber_stress(s);
     double err = 0;
     for (int i = 0; i < 3; ++i) err = std::max(err, std::abs(sigma(i, i) - goal[i]) / scale);
-    if (err < p.stress_tol && unbalanced_force(s) < p.unbalanced_tol) return step + 100;
+    if (err < p.stress_tol && unbalanced_force(s) < p.unbalanced_tol) return {step + 100, true};
   }
-  if (p.keep_on_failure) return -p.max_steps;
+  if (p.keep_on_failure) return {p.max_steps, false};
   throw std::runtime_error("consolidation to (" + std::to_string(goal[0]) + ", " +
                            std::to_string(goal[1]) + ", " + std::to_string(goal[2]) +
                            ") Pa did not converge in " + std::to_string(p.max_steps) +

@@ -25,11 +25,14 @@ struct ConsolidationParams {
   bool keep_on_failure = false;  // return instead of throwing when max_steps does not suffice
 };
 
-// Returns the DEM steps used, or -max_steps when it did not converge and keep_on_failure is
-// set (the RVE stays as reached); throws std::runtime_error if max_steps does not suffice and
-// keep_on_failure is not set.
-long consolidate(RveState& s, NeighbourList& nl, const Eigen::Vector3d& goal,
-                 const ConsolidationParams& p);
+struct Consolidation {
+  long steps = 0;         // DEM steps used
+  bool converged = true;  // false only with keep_on_failure: the RVE stays as reached
+};
+
+// Throws std::runtime_error if max_steps does not suffice and keep_on_failure is not set.
+Consolidation consolidate(RveState& s, NeighbourList& nl, const Eigen::Vector3d& goal,
+                          const ConsolidationParams& p);
 void finish_preparation(RveState& s, NeighbourList& nl, double damping);
 
 }  // namespace mpmdem::dem::native

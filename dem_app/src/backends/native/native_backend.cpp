@@ -100,12 +100,11 @@ void NativeBackend::initialise(const protocol::RveInit* init, protocol::RveReply
     lists_.emplace_back(p_.verlet_skin);
     RveRecord& r = rves_.back();
     if (goal.cwiseAbs().maxCoeff() > 0) {
-      const long result = native::consolidate(r.state, lists_.back(), goal, cp);
-      const long n = std::abs(result);  // < 0: not converged (consolidation_on_failure: warn)
-      consolidation_steps += n;
-      consolidation_max = std::max(consolidation_max, n);
+      const native::Consolidation c = native::consolidate(r.state, lists_.back(), goal, cp);
+      consolidation_steps += c.steps;
+      consolidation_max = std::max(consolidation_max, c.steps);
       ++consolidated;
-      if (result < 0) ++not_converged;
+      if (!c.converged) ++not_converged;
     }
     native::finish_preparation(r.state, lists_.back(), p_.damping);
     r.unbalanced = native::unbalanced_force(r.state);

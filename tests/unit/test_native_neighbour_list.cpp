@@ -65,17 +65,22 @@ std::set<Key> list_pairs(const RveState& s, const NeighbourList& nl) {
   return out;
 }
 
-TEST(NativeNeighbourList, FindsExactlyTheAllPairsContactsUnderRandomDeformation) {
+// 150 spheres (seed 7) shrunk homogeneously to porosity ~0.5: overlaps everywhere.
+RveState dense_cloud() {
   CloudParams cp;
   cp.n_spheres = 150;
   cp.seed = 7;
   RveState s = build_cloud(cp);
-  // Dense: shrink the loose cloud homogeneously to porosity ~0.5 (overlaps everywhere).
   const double shrink = 0.8;
   s.cell.hsize *= shrink;
   for (auto& x : s.spheres.pos.c) {
     for (double& v : x) v *= shrink;
   }
+  return s;
+}
+
+TEST(NativeNeighbourList, FindsExactlyTheAllPairsContactsUnderRandomDeformation) {
+  RveState s = dense_cloud();
   NeighbourList nl(0.5);
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -110,15 +115,7 @@ TEST(NativeNeighbourList, FindsExactlyTheAllPairsContactsUnderRandomDeformation)
 // list without a contact that overlaps is in it, also after contacts are removed; it is
 // withdrawn once the spheres have moved too far.
 TEST(NativeNeighbourList, NearPairsHoldEveryOverlapWithoutContact) {
-  CloudParams cp;
-  cp.n_spheres = 150;
-  cp.seed = 7;
-  RveState s = build_cloud(cp);
-  const double shrink = 0.8;
-  s.cell.hsize *= shrink;
-  for (auto& x : s.spheres.pos.c) {
-    for (double& v : x) v *= shrink;
-  }
+  RveState s = dense_cloud();
   NeighbourList nl(0.5);
   nl.ensure(s);
   const auto overlaps = [&](std::uint32_t i, std::size_t p) {

@@ -103,7 +103,7 @@ struct SolverParams {
 // FLIP fraction of a step of dt: 1 - dt / flip_time_scale (at least 0) when that is set, else
 // flip.
 inline double flip_fraction(const SolverParams& sp, double dt) {
-  if (sp.transfer == Transfer::kXPIC && !(sp.flip_time_scale > 0.0)) return 0.0;
+  if (sp.transfer != Transfer::kPicFlip && !(sp.flip_time_scale > 0.0)) return 0.0;
   return sp.flip_time_scale > 0.0 ? std::max(0.0, 1.0 - dt / sp.flip_time_scale) : sp.flip;
 }
 

@@ -135,14 +135,18 @@ void g2p(Particles& p, const Stencils<W>& s, Grid& grid, Transfer transfer, doub
     for (std::ptrdiff_t q = 0; q < n; ++q) {
       Vec3 v_pic = Vec3::Zero();
       if (transfer == Transfer::kAPIC) {
-        // APIC: v_p = sum_i N_ip v_i,  C_p = sum_i v_i (D_p^-1 N_ip (x_i - x_p))^T.
+        // APIC: v_p = sum_i N_ip v_i,  C_p = sum_i v_i (D_p^-1 N_ip (x_i - x_p))^T; with a FLIP
+        // share (solver.flip_time_scale > 0, Fei et al. 2021) the point velocity is the blend
+        // flip (v_p + sum N (v_i - v0_i)) + (1 - flip) sum N v_i and C_p stays APIC's.
         Mat3 C = Mat3::Zero();
+        Vec3 dv = Vec3::Zero();
         for_each_node_affine(grid, s[q],
                              [&](std::size_t i, double N, const Vec3&, const Vec3&, const Vec3& g) {
                                v_pic += N * grid.v_i[i];
+                               dv += N * (grid.v_i[i] - grid.v0_i[i]);
                                C += grid.v_i[i] * g.transpose();
                              });
-        p.v[q] = v_pic;
+        p.v[q] = flip > 0.0 ? Vec3(flip * (p.v[q] + dv) + (1.0 - flip) * v_pic) : v_pic;
         p.C[q] = C;
       } else if (transfer == Transfer::kXPIC) {
         // v_p = flip (v_p + sum N (v_i - v0_i)) + (1 - flip) sum N (v*_i + v_i - v0_i):

@@ -408,7 +408,7 @@ TEST(ConfigCrossChecks, XpicOrderOnlyWithXpic) {
 }
 
 // solver.flip_velocity_scale U sets the filter time scale to cell_size / U, and excludes
-// solver.flip, solver.flip_time_scale and APIC.
+// solver.flip and solver.flip_time_scale.
 TEST(ConfigCrossChecks, FlipVelocityScaleSetsTheTimeScaleFromTheCell) {
   const std::string file = write_file(
       "fvs.yaml",
@@ -427,12 +427,15 @@ TEST(ConfigCrossChecks, FlipVelocityScaleSetsTheTimeScaleFromTheCell) {
                "  end_time: 0.1\n  flip_time_scale: 0.03\n  flip_velocity_scale: 1.6\n"));
   EXPECT_CONTAINS(with_tau, std::string("solver.flip_velocity_scale"));
   EXPECT_CONTAINS(with_tau, std::string("which is set too"));
-  const std::string apic =
-      load_error("fvs_apic.yaml", replaced(kMinimal, "  end_time: 0.1\n",
+  // APIC takes the FLIP share too (Fei et al. 2021); without a time scale it is pure APIC.
+  const mpmdem::mpm::Scene apic = load_scene(
+      write_file("fvs_apic.yaml", replaced(kMinimal, "  end_time: 0.1\n",
                                            "  end_time: 0.1\n  shape: bspline2\n  transfer: apic\n"
-                                           "  flip_velocity_scale: 1.6\n"));
-  EXPECT_CONTAINS(apic, std::string("solver.flip_velocity_scale"));
-  EXPECT_CONTAINS(apic, std::string("the transfer is apic"));
+                                           "  flip_velocity_scale: 1.6\n")));
+  EXPECT_DOUBLE_EQ(mpmdem::mpm::flip_fraction(apic.solver, 0.00625), 0.9);
+  mpmdem::mpm::SolverParams pure;
+  pure.transfer = mpmdem::mpm::Transfer::kAPIC;
+  EXPECT_DOUBLE_EQ(mpmdem::mpm::flip_fraction(pure, 0.00625), 0.0);
 }
 
 TEST(ConfigCrossChecks, FlipTimeScaleReplacesFlip) {

@@ -214,11 +214,6 @@ SolverParams load_solver(const Config& cfg, double cell_size) {
   const double u = cfg.number("solver.flip_velocity_scale");
   for (const char* k : {"solver.flip_time_scale", "solver.flip_velocity_scale"}) {
     if (!(cfg.number(k) > 0.0)) continue;
-    if (s.transfer == Transfer::kAPIC) {
-      cfg.fail(k, std::string("applies only to solver.transfer: pic_flip or xpic (the transfer "
-                              "is ") +
-                      transfer + "); remove it");
-    }
     if (cfg.has("solver.flip")) {
       cfg.fail(k, "replaces solver.flip, which is set too; remove one of them");
     }

@@ -151,11 +151,13 @@ void add_solver_keys(config::Schema& s) {
             "pic_flip: the PIC share of a step is dt / flip_time_scale instead of 1 - flip, "
             "so the blend filters the velocities at a fixed rate per unit time and the result "
             "does not drift with the time step; 0: off (solver.flip). xpic: the XPIC share of "
-            "a step is dt / flip_time_scale, the rest FLIP; 0: pure XPIC")
+            "a step is dt / flip_time_scale, the rest FLIP; 0: pure XPIC. apic: the point "
+            "velocities take the FLIP share 1 - dt / flip_time_scale and the affine matrices "
+            "stay APIC's (Fei et al. 2021); 0: pure APIC")
             .def("0")
             .ge(0));
   s.add(key("solver.flip_velocity_scale", Type::kDouble, "m/s",
-            "pic_flip or xpic: sets solver.flip_time_scale to grid.cell_size / "
+            "pic_flip, xpic or apic: sets solver.flip_time_scale to grid.cell_size / "
             "flip_velocity_scale, i.e. the blend filters once per time a point moving at this "
             "speed needs to cross a cell. As flip_time_scale the result does not drift with "
             "the time step or the material's stiffness, and the filter follows the cell size "

@@ -79,8 +79,8 @@ bad path 's/grid.extent: \[\$v, \$v, 1.2\]/grid.cell_size.x: 1/' "grid.cell_size
 import os, sys, yaml
 d, src = sys.argv[1:3]
 names = sorted(os.listdir(d))
-assert names == ["base.yaml", "grain_young=2e+08.yaml", "grain_young=6e+07.yaml",
-                 "reference.yaml"], names
+assert names == ["base.yaml", "grain_young=2e+08.yaml", "grain_young=2e+09.yaml",
+                 "grain_young=6e+07.yaml", "reference.yaml"], names
 for n in names:
     c = yaml.safe_load(open(os.path.join(d, n)))
     assert "flip" not in c["solver"] and c["solver"]["flip_velocity_scale"] == 1.75, (n, c["solver"])
@@ -99,4 +99,28 @@ for f in "$work"/gs/scenes/*.yaml; do
   "$MPMDEM_BIN/mpm_app/mpm_app" --check-config "$f" >/dev/null || fail "$f does not load"
 done
 [[ ! -e $work/gs/runs/base ]] || fail "the dry run ran something"
+
+# The cell-size study (full design): the reference at 0.055 m and the 2 x 2 runs, each
+# scene loads, and the Coulomb ones carry the base's friction.
+"$evr" "$src/configs/studies/cell_size_base.yaml" --dry-run --out "$work/csb" >"$work/csb.log" 2>&1 ||
+  { cat "$work/csb.log" >&2; fail "cell_size_base dry run"; }
+/usr/bin/python3 - "$work/csb/scenes" <<'PY' || exit 1
+import os, sys, yaml
+d = sys.argv[1]
+names = sorted(os.listdir(d))
+assert names == ["base.yaml", "base=friction.yaml", "base=friction__cell_size=0.1375.yaml",
+                 "cell_size=0.1375.yaml", "reference.yaml"], names
+for n in names:
+    c = yaml.safe_load(open(os.path.join(d, n)))
+    h = {"reference.yaml": 0.055}.get(n, 0.1375 if "0.1375" in n else 0.11)
+    assert c["grid"]["cell_size"] == h and c["grid"]["extent"][1] == h, (n, c["grid"])
+    assert c["regions"][0]["max"][1] == h, (n, c["regions"][0])
+    friction = "friction" in n
+    assert c["walls"]["z_min"] == ("friction" if friction else "fixed"), (n, c["walls"])
+    assert c["walls"].get("friction") == (0.52 if friction else None), (n, c["walls"])
+print("cell_size_base scenes: ok")
+PY
+for f in "$work"/csb/scenes/*.yaml; do
+  "$MPMDEM_BIN/mpm_app/mpm_app" --check-config "$f" >/dev/null || fail "$f does not load"
+done
 echo "error_study: ok"

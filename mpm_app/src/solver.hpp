@@ -5,10 +5,11 @@
 //   1 P2G      m_i = sum N_ip m_p,  mv_i = sum N_ip m_p v_p,  f_i = -sum V_p sigma_p grad N_ip
 //   2 Grid     v0_i = mv_i / m_i;  f_i += m_i g;  local damping f_i -= alpha |f_i| sign(v0_i);
 //              v_i = v0_i + dt f_i / m_i;  walls and active velocity constraints on v_i.
-//   3 G2P      APIC (default): v_p = sum N v_i, C_p = sum v_i (D_p^-1 N_ip (x_i - x_p))^T
-//              (P2G then carries mv_i = sum N m_p (v_p + C_p (x_i - x_p)));
-//              PIC/FLIP: v_p = flip (v_p + sum N (v_i - v0_i)) + (1 - flip) sum N v_i;
-//              x_p += dt sum N v_i
+//   3 G2P      PIC/FLIP (the schema's default): v_p = flip (v_p + sum N (v_i - v0_i))
+//              + (1 - flip) sum N v_i, flip = 1 - dt / solver.flip_time_scale when that is set;
+//              APIC: v_p = sum N v_i, C_p = sum v_i (D_p^-1 N_ip (x_i - x_p))^T (P2G then
+//              carries mv_i = sum N m_p (v_p + C_p (x_i - x_p))), with a time scale v_p is the
+//              blend above; XPIC (transfers.hpp);  x_p += dt sum N v_i
 //   4 Velocity gradient
 //       MUSL (default): mv_i = sum N m_p v_p (re-projected), v_i = mv_i / m_i, BCs again,
 //                       grad v_p = sum v_i (x) grad N_ip. The stress sees the velocity field

@@ -47,8 +47,9 @@ void grid_update(Grid& grid, const Vec3& gravity, double damping, double dt);
 // G2P, x_p += dt sum N v_i, then (reproject = MUSL) the new momenta back to the grid with the
 // same transfer (and the stencils of x_p^n):
 //   APIC:     v_p = sum N v_i,  C_p = sum_i v_i (D_p^-1 N_ip (x_i - x_p))^T  (Jiang et al. 2015;
-//             conserves angular momentum, and its dissipation does not grow with the step count
-//             the way the PIC share of a blend does);
+//             conserves angular momentum; it still projects away the non-affine part of the
+//             velocities at every step, docs/transfers.md); with flip > 0 (a time scale) v_p is
+//             the PIC/FLIP blend below and C_p stays APIC's (Fei et al. 2021);
 //   PIC/FLIP: v_p = flip (v_p + sum N (v_i - v0_i)) + (1 - flip) sum N v_i;
 //   XPIC:     v_p = sum N (v*_i + v_i - v0_i)  (grid.vstar_i from xpic_velocity).
 template <int W>

@@ -445,6 +445,13 @@ class Run {
     if (column_) sum.stop = column_->stop_figures(sum.time_s, sum.steps);
     if (scene_.constitutive.model == ModelKind::kRemote) {
       for (const auto& kv : remote_figures(*solver_, rve_particles())) sum.analysis.push_back(kv);
+    } else if (scene_.constitutive.disconnection_volume_ratio > 0.0) {
+      // drucker_prager's disconnected state: point updates spent disconnected, and the
+      // points disconnected at the end.
+      sum.analysis.emplace_back("disconnected_point_updates",
+                                static_cast<double>(solver_->no_contact_updates()));
+      sum.analysis.emplace_back("disconnected_points_final",
+                                static_cast<double>(solver_->no_contact_points()));
     }
     if (checkpoints_ > 0) {  // this process's part of the run (a resumed one: since resuming)
       sum.analysis.emplace_back("checkpoints", static_cast<double>(checkpoints_));

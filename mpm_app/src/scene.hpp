@@ -119,6 +119,9 @@ struct ConstitutiveParams {
   double dilation_angle_deg = 0.0;   // psi, 0 <= psi <= phi [deg]
   double cohesion = 0.0;             // Mohr-Coulomb cohesion c [Pa]
   ConeMatching matching = ConeMatching::kCompression;
+  // J_c: a point whose volume exceeds J_c times its initial volume is disconnected (no
+  // stress, no stiffness) until compacted below it again; 0: never.
+  double disconnection_volume_ratio = 0.0;
 };
 
 // The shared section both programs read (hashed in the handshake).

@@ -1,4 +1,5 @@
 #include "transfers.hpp"
+#include "mpmdem/protocol.hpp"
 #include "node_loops.hpp"
 #include "parallel.hpp"
 
@@ -124,6 +125,8 @@ void g2p(Particles& p, const Stencils<W>& s, Grid& grid, Transfer transfer, doub
   const int threads = omp_get_max_threads();
   if (reproject) buf.resize(grid.size(), threads);
   const auto n = static_cast<std::ptrdiff_t>(p.size());
+  assert(p.status.size() == p.size());
+  constexpr auto no_contacts = static_cast<std::int32_t>(protocol::RveStatus::kNoContacts);
 #pragma omp parallel num_threads(threads) if (n > kParallelMin)
   {
     const int t = omp_get_thread_num();
@@ -147,7 +150,11 @@ void g2p(Particles& p, const Stencils<W>& s, Grid& grid, Transfer transfer, doub
                                C += grid.v_i[i] * g.transpose();
                              });
         p.v[q] = flip > 0.0 ? Vec3(flip * (p.v[q] + dv) + (1.0 - flip) * v_pic) : v_pic;
-        p.C[q] = C;
+        // A point without contacts (a disconnected Drucker-Prager point, an RVE that lost
+        // all contacts) is not a continuum: it carries no affine velocity field. Alone near
+        // a wall its C would otherwise feed on itself (docs/transfers.md, "The disconnected
+        // state"). Dropping C removes no linear momentum: sum_i N_ip (x_i - x_p) = 0.
+        p.C[q] = p.status[q] == no_contacts ? Mat3::Zero().eval() : C;
       } else if (transfer == Transfer::kXPIC) {
         // v_p = flip (v_p + sum N (v_i - v0_i)) + (1 - flip) sum N (v*_i + v_i - v0_i):
         // the blend with FLIP (flip > 0 only with solver.flip_time_scale).

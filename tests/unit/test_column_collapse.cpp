@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -176,6 +177,51 @@ TEST(ColumnCollapse, CoulombBaseKeepsTheEnergyBudgetClosed) {
   EXPECT_EQ(s.stop_reason, "at_rest");
 }
 
+// The disconnected state (constitutive.drucker_prager.disconnection_volume_ratio) on APIC with
+// a FLIP share: configs/column_collapse_mc_apic.yaml (docs/transfers.md, "The disconnected
+// state"), whose domain is long enough for the runout of that little-damped blend. Without it,
+// points that dilate at the front keep their stiffness at a falling density, which shrinks the
+// stable step, and the deposit does not reach rest by 6 t*. With J_c = 1.5 the run stops at rest,
+// the smallest step stays within a factor 2 of the largest, and the transfers dissipate less than
+// half of what the shipped PIC/FLIP blend dissipates on the same column.
+TEST(ColumnCollapse, DisconnectedStateBringsApicWithAFlipShareToRest) {
+  TempDir d_shipped("shipped"), d_apic("apic"), d_disc("disc");
+  const Scene disc =
+      load_scene(std::string(MPMDEM_SOURCE_DIR) + "/configs/column_collapse_mc_apic.yaml");
+  ASSERT_EQ(disc.solver.transfer, Transfer::kAPIC);
+  ASSERT_EQ(disc.constitutive.disconnection_volume_ratio, 1.5);
+  Scene apic = disc;  // the same without the disconnected state
+  apic.constitutive.disconnection_volume_ratio = 0.0;
+  apic.solver.on_exit = OnExit::kRemove;
+  Scene shipped = mc_scene();  // PIC/FLIP, on the same domain
+  shipped.grid.extent.x() = disc.grid.extent.x();
+  const ColumnRun a = run(shipped, d_shipped.str());
+  const ColumnRun b = run(apic, d_apic.str());
+  const ColumnRun c = run(disc, d_disc.str());
+  ASSERT_EQ(a.result.exit_code, 0);
+  ASSERT_EQ(b.result.exit_code, 0);
+  ASSERT_EQ(c.result.exit_code, 0);
+  const RunSummary &sa = a.result.summary, &sb = b.result.summary, &sc = c.result.summary;
+  auto transfer_share = [](const RunSummary& s) {
+    return s.W_transfer_J / (s.E_p0_J + s.E_k0_J - s.E_p_J - s.E_k_J);
+  };
+  std::printf(
+      "APIC + FLIP share: stop %s / %s (without / with J_c), dt_min/dt_max %.3f / %.3f, "
+      "transfers' share %.3f / %.3f (shipped PIC/FLIP %.3f), disconnected point updates %.0f, "
+      "points at the end %.0f\n",
+      sb.stop_reason.c_str(), sc.stop_reason.c_str(), sb.dt_min_s / sb.dt_max_s,
+      sc.dt_min_s / sc.dt_max_s, transfer_share(sb), transfer_share(sc), transfer_share(sa),
+      figure(sc, "disconnected_point_updates"), figure(sc, "disconnected_points_final"));
+  EXPECT_NE(sb.stop_reason, "at_rest");
+  EXPECT_EQ(sc.stop_reason, "at_rest");
+  EXPECT_EQ(sc.removed_points, 0u);
+  EXPECT_GT(figure(sc, "disconnected_point_updates"), 0.0)
+      << "no point disconnected: the test lost its subject";
+  EXPECT_GT(sc.dt_min_s, 0.5 * sc.dt_max_s);
+  EXPECT_LT(sb.dt_min_s, 0.5 * sb.dt_max_s);
+  EXPECT_LT(transfer_share(sc), 0.5 * transfer_share(sa));
+}
+
 // The deposit's connected front: a 10 x 3 block of points 0.05 m apart, a train of points
 // 0.09 m apart (less than the 0.1 m cell: still connected) and two stray points beyond a
 // 0.25 m gap. runout_m is set by the last stray point, the front by the end of the train.
@@ -283,9 +329,10 @@ TEST(ColumnCollapse, AtRestStopEndsWithinHalfAPercentOfTheFullRun) {
   EXPECT_GT(rows, 10);
 }
 
-TEST(ColumnCollapse, ResumedRunEndsInExactlyTheUninterruptedState) {
+namespace {
+
+void resumed_run_ends_in_the_uninterrupted_state(Scene scene) {
   TempDir full("full"), part("part");
-  Scene scene = mc_scene();
   scene.output.vtk = false;
   scene.output.checkpoint_interval_steps = 100;
   scene.output.checkpoints_kept = 100;
@@ -315,6 +362,8 @@ TEST(ColumnCollapse, ResumedRunEndsInExactlyTheUninterruptedState) {
     ASSERT_EQ(a.final_state.x[q], b.final_state.x[q]) << "point " << q;
     ASSERT_EQ(a.final_state.v[q], b.final_state.v[q]) << "point " << q;
     ASSERT_EQ(a.final_state.sigma[q], b.final_state.sigma[q]) << "point " << q;
+    ASSERT_EQ(a.final_state.C[q], b.final_state.C[q]) << "point " << q;
+    ASSERT_EQ(a.final_state.status[q], b.final_state.status[q]) << "point " << q;
   }
   EXPECT_EQ(a.result.summary.steps, b.result.summary.steps);
   EXPECT_EQ(b.result.summary.stop_reason, "at_rest");
@@ -323,6 +372,18 @@ TEST(ColumnCollapse, ResumedRunEndsInExactlyTheUninterruptedState) {
   EXPECT_EQ(figure(a.result.summary, "stage1_time_s"), figure(b.result.summary, "stage1_time_s"));
   // The energy log of the resumed run is the uninterrupted one, row for row.
   EXPECT_EQ(a.energies, b.energies);
+}
+
+}  // namespace
+
+// Also with APIC and the disconnected state (configs/column_collapse_mc_apic.yaml), whose
+// affine matrices and volume ratios a checkpoint must carry.
+TEST(ColumnCollapse, ResumedRunEndsInExactlyTheUninterruptedState) {
+  for (const char* file : {"column_collapse_mc.yaml", "column_collapse_mc_apic.yaml"}) {
+    SCOPED_TRACE(file);
+    resumed_run_ends_in_the_uninterrupted_state(
+        load_scene(std::string(MPMDEM_SOURCE_DIR) + "/configs/" + file));
+  }
 }
 
 TEST(ColumnCollapse, SceneErrorsNameTheKey) {

@@ -19,6 +19,7 @@
 #include "constitutive/drucker_prager.hpp"
 #include "constitutive/elastic_law.hpp"
 #include "constitutive/linear_elastic.hpp"
+#include "mpmdem/protocol.hpp"
 #include "particle_init.hpp"
 #include "solver.hpp"
 
@@ -290,6 +291,75 @@ TEST(DruckerPrager, PureRotationRotatesTheStress) {
 
 // One-dimensional (oedometric) compression from zero stress: elastic, sigma_h / sigma_v =
 // K0 = nu / (1 - nu) and sigma_v = M ln(stretch) with M = K + 4G/3.
+// The disconnected state (disconnection_volume_ratio J_c, Dunatunga & Kamrin 2015). One point
+// under compression, stretched isotropically past J_c, compacted a little (still beyond J_c),
+// then back below it. Beyond J_c: zero stress and stiffness, status no contacts. Back below
+// J_c: the stress restarts from zero with that step's increment (it does not return to the
+// stress held before the point disconnected), and the modulus is back. Without J_c the same
+// path never disconnects. A checkpoint carries the volume ratios.
+TEST(DruckerPrager, DisconnectsBeyondTheVolumeRatioAndReconnectsFromZeroStress) {
+  using mpmdem::protocol::RveStatus;
+  ConstitutiveParams params = dp_params(30.0);
+  params.disconnection_volume_ratio = 1.5;
+  const DruckerPragerLaw law(params);
+  const auto no_contacts = static_cast<std::int32_t>(RveStatus::kNoContacts);
+  const auto ok = static_cast<std::int32_t>(RveStatus::kOk);
+  const Mat3 sigma0 = diag(-8e3, -8e3, -1e4);
+  // J after each increment: 1.158, 1.626 (disconnects), 1.578 (still), 1.150 (reconnects),
+  // 1.147.
+  const std::vector<Mat3> path = {1.05 * Mat3::Identity(), 1.12 * Mat3::Identity(),
+                                  0.99 * Mat3::Identity(), 0.9 * Mat3::Identity(),
+                                  0.999 * Mat3::Identity()};
+  auto dp = make_drucker_prager(params);
+  auto plain = make_drucker_prager(dp_params(30.0));
+  std::vector<PointResponse> out, out_plain;
+  dp->initialise({sigma0}, out);
+  plain->initialise({sigma0}, out_plain);
+  double J = 1.0;
+  Mat3 expected = sigma0;
+  bool was_disconnected = false, reconnected = false;
+  std::vector<double> saved;
+  for (std::size_t k = 0; k < path.size(); ++k) {
+    dp->update({path[k]}, 1e-3, static_cast<std::int64_t>(k + 1), 0.0, out);
+    plain->update({path[k]}, 1e-3, static_cast<std::int64_t>(k + 1), 0.0, out_plain);
+    J *= path[k].determinant();
+    EXPECT_EQ(out_plain[0].status, ok);
+    if (J > 1.5) {
+      EXPECT_EQ(out[0].status, no_contacts) << "J = " << J;
+      EXPECT_EQ(out[0].stress, Mat3::Zero()) << "J = " << J;
+      EXPECT_EQ(out[0].stiffness, 0.0);
+      expected = Mat3::Zero();
+      was_disconnected = true;
+      saved = dp->save_state();
+    } else {
+      if (was_disconnected) reconnected = true;
+      expected = law.update(expected, path[k]);
+      EXPECT_EQ(out[0].status, ok) << "J = " << J;
+      EXPECT_LT((out[0].stress - expected).norm(), 1e-9 * (1.0 + expected.norm())) << "J = " << J;
+      EXPECT_EQ(out[0].stiffness, law.constrained_modulus());
+    }
+  }
+  ASSERT_TRUE(was_disconnected && reconnected) << "the path must cross J_c both ways";
+  // Both models lost their stress to the tension cutoff while stretched, but the plain one
+  // carries pressure again from the first compaction (J 1.626 -> 1.578, ~K * 3 %); the
+  // disconnected point only from J_c down.
+  EXPECT_GT(-out_plain[0].stress.trace() / 3.0, -out[0].stress.trace() / 3.0 + 1e5);
+  // A provider resumed from the checkpoint taken while disconnected (stress zero) follows the
+  // same path back: J travels in save_state().
+  ASSERT_EQ(saved.size(), 1u);
+  auto resumed = make_drucker_prager(params);
+  std::vector<PointResponse> out_resumed;
+  resumed->resume({Mat3::Zero()}, out_resumed);
+  resumed->load_state(saved);
+  resumed->update({0.9 * Mat3::Identity()}, 1e-3, 4, 0.0, out_resumed);
+  EXPECT_EQ(out_resumed[0].status, ok);
+  EXPECT_EQ(out_resumed[0].stress, law.update(Mat3::Zero(), 0.9 * Mat3::Identity()));
+  EXPECT_THROW(resumed->load_state({1.0, 1.0}), std::runtime_error);
+  // Ratios at or below 1 would disconnect points that did not dilate.
+  params.disconnection_volume_ratio = 1.0;
+  EXPECT_THROW(make_drucker_prager(params), std::invalid_argument);
+}
+
 TEST(DruckerPrager, OedometricLoadingGivesElasticK0) {
   for (const double nu : {0.2, 0.3}) {
     ConstitutiveParams prm = dp_params(40.0);  // K0 = 0.25 lies inside the cone for phi > 35 deg
@@ -471,16 +541,29 @@ TEST(DruckerPragerConfig, KeysDefaultsAndChecks) {
   EXPECT_EQ(a.constitutive.dilation_angle_deg, 0.0);
   EXPECT_EQ(a.constitutive.cohesion, 0.0);
   EXPECT_EQ(a.constitutive.matching, ConeMatching::kCompression);
+  EXPECT_EQ(a.constitutive.disconnection_volume_ratio, 0.0);
   const Scene b = load_scene(write_scene("given.yaml", scene_text("  drucker_prager:\n"
                                                                   "    youngs_modulus: 2e6\n"
                                                                   "    poisson_ratio: 0.25\n"
                                                                   "    friction_angle_deg: 30\n"
                                                                   "    dilation_angle_deg: 5\n"
                                                                   "    cohesion: 100\n"
-                                                                  "    matching: plane_strain\n")));
+                                                                  "    matching: plane_strain\n"
+                                                                  "    disconnection_volume_ratio: "
+                                                                  "1.5\n")));
   EXPECT_EQ(b.constitutive.dilation_angle_deg, 5.0);
   EXPECT_EQ(b.constitutive.cohesion, 100.0);
   EXPECT_EQ(b.constitutive.matching, ConeMatching::kPlaneStrain);
+  EXPECT_EQ(b.constitutive.disconnection_volume_ratio, 1.5);
+  const std::string jc = load_error("jc.yaml", scene_text("  drucker_prager:\n"
+                                                          "    youngs_modulus: 2e6\n"
+                                                          "    poisson_ratio: 0.25\n"
+                                                          "    friction_angle_deg: 20\n"
+                                                          "    disconnection_volume_ratio: 0.8\n"));
+  EXPECT_NE(jc.find("constitutive.drucker_prager.disconnection_volume_ratio 0.8 would disconnect"),
+            std::string::npos)
+      << jc;
+  EXPECT_NE(jc.find("test_drucker_prager_jc.yaml"), std::string::npos) << jc;
   const std::string psi = load_error("psi.yaml", scene_text("  drucker_prager:\n"
                                                             "    youngs_modulus: 2e6\n"
                                                             "    poisson_ratio: 0.25\n"

@@ -257,6 +257,14 @@ ConstitutiveParams load_constitutive(const Config& cfg) {
     c.friction_angle_deg = cfg.number("constitutive.drucker_prager.friction_angle_deg");
     c.dilation_angle_deg = cfg.number("constitutive.drucker_prager.dilation_angle_deg");
     c.cohesion = cfg.number("constitutive.drucker_prager.cohesion");
+    c.disconnection_volume_ratio =
+        cfg.number("constitutive.drucker_prager.disconnection_volume_ratio");
+    if (c.disconnection_volume_ratio > 0.0 && c.disconnection_volume_ratio <= 1.0) {
+      cfg.fail("constitutive.drucker_prager.disconnection_volume_ratio",
+               config::format_number(c.disconnection_volume_ratio) +
+                   " would disconnect points at or below their initial volume; give a ratio "
+                   "above 1 (e.g. 1.5) or 0 (never)");
+    }
     c.matching = cfg.string("constitutive.drucker_prager.matching") == "plane_strain"
                      ? ConeMatching::kPlaneStrain
                      : ConeMatching::kCompression;

@@ -242,6 +242,14 @@ void add_constitutive_keys(config::Schema& s) {
             "Mohr-Coulomb")
             .def("compression")
             .one_of({"compression", "plane_strain"}));
+  s.add(key("constitutive.drucker_prager.disconnection_volume_ratio", Type::kDouble, "-",
+            "J_c > 1: a point whose volume exceeds J_c times its initial volume is "
+            "disconnected (the granular state below the critical density of Dunatunga & "
+            "Kamrin 2015): no stress and no stiffness, reported as no contacts, and no affine "
+            "velocity with transfer apic; compacted below J_c it reconnects from zero stress. "
+            "0: never (docs/transfers.md, \"The disconnected state\")")
+            .def("0")
+            .ge(0));
 }
 
 void add_output_keys(config::Schema& s) {

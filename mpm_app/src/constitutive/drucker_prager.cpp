@@ -99,9 +99,16 @@ double DruckerPragerLaw::strain_energy_density(const Mat3& sigma) const {
 
 namespace {
 
+// The disconnected state (disconnection_volume_ratio J_c > 0; Dunatunga & Kamrin 2015): the
+// provider tracks each point's volume ratio J = prod det(dF). While J > J_c the point is a
+// granular gas below the critical density: no stress, no stiffness (so it does not set the
+// CFL step through its falling density), status kNoContacts (as an RVE that lost all its
+// contacts). Compacted back to J <= J_c it reconnects: the stress restarts from zero with the
+// increment of that step, not from a stress it held before it disconnected.
 class DruckerPragerProvider final : public ConstitutiveProvider {
  public:
-  explicit DruckerPragerProvider(const DruckerPragerLaw& law) : law_(law) {}
+  DruckerPragerProvider(const DruckerPragerLaw& law, double disconnection_volume_ratio)
+      : law_(law), j_c_(disconnection_volume_ratio) {}
 
   std::string name() const override { return "drucker_prager"; }
 
@@ -110,8 +117,26 @@ class DruckerPragerProvider final : public ConstitutiveProvider {
   void initialise(const std::vector<Mat3>& initial_stress,
                   std::vector<PointResponse>& out) override {
     sigma_ = initial_stress;
+    J_.assign(sigma_.size(), 1.0);
     out.resize(sigma_.size());
     for (std::size_t i = 0; i < sigma_.size(); ++i) fill(i, out[i]);
+  }
+
+  // A resumed run keeps the stress of each point (resume() = initialise()); the volume
+  // ratios, which the stress does not carry, travel in the checkpoint.
+  std::vector<double> save_state() const override {
+    return j_c_ > 0.0 ? J_ : std::vector<double>{};
+  }
+  void load_state(const std::vector<double>& state) override {
+    if (j_c_ <= 0.0) return;
+    if (state.size() != J_.size()) {
+      throw std::runtime_error("drucker_prager: the checkpoint holds " +
+                               std::to_string(state.size()) + " volume ratios for " +
+                               std::to_string(J_.size()) +
+                               " points (was it written without constitutive.drucker_prager."
+                               "disconnection_volume_ratio?)");
+    }
+    J_ = state;
   }
 
   // sigma_p <- DruckerPragerLaw::update(sigma_p, dF_p) for every point (independent points:
@@ -127,6 +152,15 @@ class DruckerPragerProvider final : public ConstitutiveProvider {
 #pragma omp parallel for schedule(static) if (n > kParallelMin)
     for (std::ptrdiff_t p = 0; p < n; ++p) {
       const auto i = static_cast<std::size_t>(p);
+      if (j_c_ > 0.0) {
+        J_[i] *= dF[i].determinant();
+        if (J_[i] > j_c_) {
+          sigma_[i].setZero();
+          out[i] = PointResponse{};  // zero stress and stiffness
+          out[i].status = static_cast<std::int32_t>(protocol::RveStatus::kNoContacts);
+          continue;
+        }
+      }
       sigma_[i] = law_.update(sigma_[i], dF[i]);
       fill(i, out[i]);
     }
@@ -140,13 +174,20 @@ class DruckerPragerProvider final : public ConstitutiveProvider {
   }
 
   DruckerPragerLaw law_;
+  double j_c_;  // disconnection volume ratio; 0: never
   std::vector<Mat3> sigma_;
+  std::vector<double> J_;  // volume ratio of each point (tracked only with j_c_ > 0)
 };
 
 }  // namespace
 
 std::unique_ptr<ConstitutiveProvider> make_drucker_prager(const ConstitutiveParams& params) {
-  return std::make_unique<DruckerPragerProvider>(DruckerPragerLaw(params));
+  if (params.disconnection_volume_ratio != 0.0 && !(params.disconnection_volume_ratio > 1.0)) {
+    throw std::invalid_argument("drucker_prager needs disconnection_volume_ratio 0 or > 1, got " +
+                                std::to_string(params.disconnection_volume_ratio));
+  }
+  return std::make_unique<DruckerPragerProvider>(DruckerPragerLaw(params),
+                                                 params.disconnection_volume_ratio);
 }
 
 }  // namespace mpmdem::mpm

@@ -82,8 +82,9 @@ class DruckerPragerLaw {
   double eta_, eta_g_, xi_, c_, p_apex_;
 };
 
-// Reads youngs_modulus, poisson_ratio, friction_angle_deg, dilation_angle_deg, cohesion and
-// matching of params.
+// Reads youngs_modulus, poisson_ratio, friction_angle_deg, dilation_angle_deg, cohesion,
+// matching and disconnection_volume_ratio (the disconnected state, drucker_prager.cpp) of
+// params. Throws std::invalid_argument for a ratio that is neither 0 nor > 1.
 std::unique_ptr<ConstitutiveProvider> make_drucker_prager(const ConstitutiveParams& params);
 
 }  // namespace mpmdem::mpm

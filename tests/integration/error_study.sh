@@ -123,4 +123,28 @@ PY
 for f in "$work"/csb/scenes/*.yaml; do
   "$MPMDEM_BIN/mpm_app/mpm_app" --check-config "$f" >/dev/null || fail "$f does not load"
 done
+
+# The APIC slice study: APIC with a FLIP share everywhere but the pic_flip run, on the 4.4 m
+# domain; cfl and base as named.
+"$evr" "$src/configs/studies/transfer_apic_slice.yaml" --dry-run --out "$work/tas" >"$work/tas.log" 2>&1 ||
+  { cat "$work/tas.log" >&2; fail "transfer_apic_slice dry run"; }
+/usr/bin/python3 - "$work/tas/scenes" <<'PY' || exit 1
+import os, sys, yaml
+d = sys.argv[1]
+names = sorted(os.listdir(d))
+assert names == ["base.yaml", "base=friction.yaml", "cfl=0.25.yaml", "reference.yaml",
+                 "transfer=pic_flip.yaml"], names
+for n in names:
+    c = yaml.safe_load(open(os.path.join(d, n)))
+    s = c["solver"]
+    assert s["transfer"] == ("pic_flip" if "pic_flip" in n else "apic"), (n, s)
+    assert s["flip_velocity_scale"] == 1.75 and s["cfl"] == (0.25 if "cfl" in n else 0.5), (n, s)
+    h = 0.055 if n == "reference.yaml" else 0.11
+    assert c["grid"]["extent"] == [4.4, h, 1.43] and c["grid"]["cell_size"] == h, (n, c["grid"])
+    assert c["walls"]["z_min"] == ("friction" if "friction" in n else "fixed"), (n, c["walls"])
+print("transfer_apic_slice scenes: ok")
+PY
+for f in "$work"/tas/scenes/*.yaml; do
+  "$MPMDEM_BIN/mpm_app/mpm_app" --check-config "$f" >/dev/null || fail "$f does not load"
+done
 echo "error_study: ok"

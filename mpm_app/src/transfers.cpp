@@ -136,43 +136,43 @@ void g2p(Particles& p, const Stencils<W>& s, Grid& grid, Transfer transfer, doub
       // Interpolate the new velocity and its increment back to the points; move them.
 #pragma omp for schedule(static)
     for (std::ptrdiff_t q = 0; q < n; ++q) {
-      Vec3 v_pic = Vec3::Zero();
+      // Every transfer blends v_p = flip (v_p + sum N (v_i - v0_i)) + (1 - flip) v_target,
+      // flip > 0 only with a FLIP share (solver.flip_time_scale or flip_velocity_scale).
+      Vec3 v_pic = Vec3::Zero(), dv = Vec3::Zero(), v_target;
       if (transfer == Transfer::kAPIC) {
-        // APIC: v_p = sum_i N_ip v_i,  C_p = sum_i v_i (D_p^-1 N_ip (x_i - x_p))^T; with a FLIP
-        // share (solver.flip_time_scale > 0, Fei et al. 2021) the point velocity is the blend
-        // flip (v_p + sum N (v_i - v0_i)) + (1 - flip) sum N v_i and C_p stays APIC's.
+        // APIC: v_target = sum_i N_ip v_i,  C_p = sum_i v_i (D_p^-1 N_ip (x_i - x_p))^T; with a
+        // FLIP share C_p stays APIC's (Fei et al. 2021).
         Mat3 C = Mat3::Zero();
-        Vec3 dv = Vec3::Zero();
         for_each_node_affine(grid, s[q],
                              [&](std::size_t i, double N, const Vec3&, const Vec3&, const Vec3& g) {
                                v_pic += N * grid.v_i[i];
                                dv += N * (grid.v_i[i] - grid.v0_i[i]);
                                C += grid.v_i[i] * g.transpose();
                              });
-        p.v[q] = flip > 0.0 ? Vec3(flip * (p.v[q] + dv) + (1.0 - flip) * v_pic) : v_pic;
+        v_target = v_pic;
         // A point without contacts (a disconnected Drucker-Prager point, an RVE that lost
         // all contacts) is not a continuum: it carries no affine velocity field. Alone near
         // a wall its C would otherwise feed on itself (docs/transfers.md, "The disconnected
         // state"). Dropping C removes no linear momentum: sum_i N_ip (x_i - x_p) = 0.
         p.C[q] = p.status[q] == no_contacts ? Mat3::Zero().eval() : C;
       } else if (transfer == Transfer::kXPIC) {
-        // v_p = flip (v_p + sum N (v_i - v0_i)) + (1 - flip) sum N (v*_i + v_i - v0_i):
-        // the blend with FLIP (flip > 0 only with solver.flip_time_scale).
-        Vec3 dv = Vec3::Zero(), v_star = Vec3::Zero();
+        // XPIC: v_target = sum N (v*_i + v_i - v0_i).
+        Vec3 v_star = Vec3::Zero();
         for_each_node(grid, s[q], [&](std::size_t i, double N, const Vec3&) {
           v_pic += N * grid.v_i[i];
           dv += N * (grid.v_i[i] - grid.v0_i[i]);
           v_star += N * grid.vstar_i[i];
         });
-        p.v[q] = flip * (p.v[q] + dv) + (1.0 - flip) * (v_star + dv);
+        v_target = v_star + dv;
       } else {
-        Vec3 dv = Vec3::Zero();
+        // PIC/FLIP: v_target = sum N v_i.
         for_each_node(grid, s[q], [&](std::size_t i, double N, const Vec3&) {
           v_pic += N * grid.v_i[i];
           dv += N * (grid.v_i[i] - grid.v0_i[i]);
         });
-        p.v[q] = flip * (p.v[q] + dv) + (1.0 - flip) * v_pic;
+        v_target = v_pic;
       }
+      p.v[q] = flip * (p.v[q] + dv) + (1.0 - flip) * v_target;
       p.x[q] += dt * v_pic;
       if (reproject) {
         // MUSL: the new point momenta back on the grid (same stencils, same transfer).

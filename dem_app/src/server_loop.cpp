@@ -17,6 +17,7 @@
 #include "migration.hpp"
 #include "mpmdem/errors.hpp"
 #include "mpmdem/exchange.hpp"
+#include "substep_tally.hpp"
 
 namespace mpmdem::dem {
 
@@ -215,6 +216,7 @@ int serve(const ServerOptions& opts, const BackendMaker& make_backend) {
   std::vector<Partition> parts = partition_contiguous(channel.n_rve(), channel.ranks());
   IdleWatchdog idle(opts.idle_timeout_s, root);
   std::vector<double> step_compute_s, step_exchange_s;  // per kStep exchange (timing line)
+  SubstepTally substeps;
   for (;;) {
     idle.arm();
     const bool more = channel.next(header);
@@ -240,6 +242,7 @@ int serve(const ServerOptions& opts, const BackendMaker& make_backend) {
           backend->initialise(init.data(), replies.data());
         } else if (kind == MessageKind::kStep) {
           backend->step(header, requests.data(), replies.data());
+          substeps.add(replies.data(), replies.size());
           ++steps;
         } else if (kind == MessageKind::kRebalance) {
           // Every rank knows the old partition (the default one or the last one sent).
@@ -292,6 +295,10 @@ int serve(const ServerOptions& opts, const BackendMaker& make_backend) {
     }
   }
   print_timing(ctx.rank, ctx.n_rve, step_compute_s, step_exchange_s);
+  if (const std::string line = substeps.line(ctx.rank); !line.empty()) {
+    std::fprintf(stderr, "%s\n", line.c_str());
+    std::fflush(stderr);
+  }
 
   // Shutdown or Abort: both sides disconnect.
   const bool aborted = channel.aborted();

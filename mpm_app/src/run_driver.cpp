@@ -435,8 +435,9 @@ class Run {
     sum.E_p_J = e.E_p;
     sum.E_k_J = e.E_k;
     const EnergyBudget& b = solver_->energy_budget();
-    std::tie(sum.E_k0_J, sum.W_int_J, sum.W_damp_J, sum.W_bc_J, sum.W_transfer_J) =
-        std::tie(b.E_k0, b.W_int, b.W_damp, b.W_bc, b.W_transfer);
+    std::tie(sum.E_k0_J, sum.W_int_J, sum.W_damp_J, sum.W_bc_J, sum.W_transfer_J,
+             sum.W_transfer_walls_J) =
+        std::tie(b.E_k0, b.W_int, b.W_damp, b.W_bc, b.W_transfer, b.W_transfer_walls);
     sum.analysis.clear();
     if (column_) sum.analysis = column_->figures(solver_->time(), p);
     sum.stop_reason =

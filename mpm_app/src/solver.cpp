@@ -293,9 +293,14 @@ void Solver::step_with(Stencils<Shape::kWidth>& stencils, double dt) {
   const auto t2 = Clock::now();
   // Update point velocities (APIC or PIC/FLIP) and positions; MUSL re-projects the momentum.
   const bool musl = sp.scheme == Scheme::kMUSL;
+  v_before_g2p_ = p_.v;
+  if (sp.transfer == Transfer::kAPIC) C_before_g2p_ = p_.C;
   g2p(p_, stencils, grid_, sp.transfer, flip_fraction(sp, dt), dt, musl, buffers_);
   E_k_points_ = kinetic_energy(p_);
   step_work.W_transfer -= E_k_points_;
+  step_work.W_transfer_walls =
+      grid_work_.wall_work_on_points(grid_, stencils, p_, v_before_g2p_, C_before_g2p_) -
+      step_work.W_bc;
   if (musl) {
     grid_velocity_from_momentum(grid_);
     bc_.apply(grid_.v_i);
@@ -334,6 +339,7 @@ void Solver::step_with(Stencils<Shape::kWidth>& stencils, double dt) {
   budget_.W_damp += step_work.W_damp;
   budget_.W_bc += step_work.W_bc;
   budget_.W_transfer += step_work.W_transfer;
+  budget_.W_transfer_walls += step_work.W_transfer_walls;
   const auto t4 = Clock::now();
   timing_ = {seconds(t0, t1), seconds(t1, t2), seconds(t2, t3), seconds(t3, t4),
              provider_->last_timing()};

@@ -182,7 +182,12 @@ def write_report(run_dir, s, made, rot_note, thin):
         keys = ("W_int_share", "W_bc_share", "E_err_transfer_share", "E_err_other_share")
         if not all(isinstance(b.get(k), (int, float)) for k in keys):
             return "n/a"
-        return " / ".join(f"{100 * b[k]:.1f} %" for k in keys)
+        parts = [f"{100 * b[k]:.1f} %" for k in keys]
+        walls = b.get("E_err_transfer_walls_share")  # absent in runs before 2026-11-26
+        if isinstance(walls, (int, float)):
+            bulk = b["E_err_transfer_share"] - walls
+            parts[2] += f" ({100 * walls:.1f} % at the walls, {100 * bulk:.1f} % in the bulk)"
+        return " / ".join(parts)
 
     def fmt(v, d=3):
         return "n/a" if v is None or (isinstance(v, float) and math.isnan(v)) else f"{v:.{d}f}"

@@ -578,4 +578,41 @@ TEST(EnergyBudget, TransferTermIsWhatPicRemoves) {
   Solver translating(scene, t, make_linear_elastic(scene.constitutive));
   for (int n = 0; n < 100; ++n) translating.step();
   EXPECT_LT(std::abs(translating.energy_budget().W_transfer), 1e-12 * translating.energies().E_k);
+  EXPECT_EQ(b.W_transfer_walls, 0.0);  // no wall reached
+}
+
+// W_transfer_walls (energy_budget.hpp): the walls' velocity jumps move every point by
+// sum_i N_ip dv_i, so the points lose more than the nodes the walls stop whenever a point is
+// only partly on wall nodes. A block sliding at a uniform u into a fixed base, pure FLIP, no
+// stress and no gravity: in the first step only the base acts. A point keeps (1 - S_p) u,
+// S_p = sum over wall nodes of N_ip; the nodes lose W_bc = 1/2 |u|^2 sum_p m_p S_p, the
+// points 1/2 |u|^2 sum_p m_p (2 S_p - S_p^2), and the excess is
+// W_transfer_walls = 1/2 |u|^2 sum_p m_p S_p (1 - S_p), all of W_transfer.
+TEST(EnergyBudget, WallsStopThePointsMoreThanTheNodes) {
+  for (ShapeKind shape : {ShapeKind::kLinear, ShapeKind::kQuadraticBSpline}) {
+    Scene scene = flying_block(shape, Scheme::kUSL, Transfer::kPicFlip, 1.0);
+    scene.regions[0].min.z() = 0.0;  // resting on the base
+    scene.walls[4].type = WallType::kFixed;
+    Particles p = generate_particles(scene);
+    const Vec3 u(0.5, 0.1, -0.2);
+    for (auto& v : p.v) v = u;
+    Solver solver(scene, p, make_linear_elastic(scene.constitutive));
+    const double K0 = solver.energies().E_k;
+    solver.step();
+    const Particles& P = solver.particles();
+    double excess = 0.0, touched = 0.0, mass = 0.0;
+    for (std::size_t q = 0; q < P.size(); ++q) {
+      const double S = 1.0 - P.v[q].dot(u) / u.squaredNorm();
+      ASSERT_LT((P.v[q] - (1.0 - S) * u).norm(), 1e-12) << "point " << q;  // only the base acted
+      excess += 0.5 * u.squaredNorm() * P.m[q] * S * (1.0 - S);
+      if (S > 1e-12) touched += P.m[q];
+      mass += P.m[q];
+    }
+    const EnergyBudget& b = solver.energy_budget();
+    EXPECT_GT(touched, 0.03 * mass);  // the base reaches the lowest layer of points (of 24)
+    EXPECT_GT(b.W_transfer_walls, 0.05 * b.W_bc);
+    EXPECT_NEAR(b.W_transfer_walls, excess, 1e-12 * K0);
+    EXPECT_NEAR(b.W_transfer, b.W_transfer_walls, 1e-12 * K0);
+    EXPECT_NEAR(K0 - solver.energies().E_k, b.W_bc + b.W_transfer_walls, 1e-12 * K0);
+  }
 }

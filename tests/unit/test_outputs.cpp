@@ -304,7 +304,7 @@ TEST(EnergyLog, HeaderAndDissipatedEnergyIdentity) {
   {
     EnergyLog log(path.string());
     log.append({0.0, 0, 0.0, 10.0, 0.0, 0.0, 10.0});
-    log.append({0.1, 7, 1e-3, 9.5, 0.25, 0.1, 10.0, 0.5, 0.4, 0.2, 0.05, 0.03});
+    log.append({0.1, 7, 1e-3, 9.5, 0.25, 0.1, 10.0, 0.5, 0.4, 0.2, 0.05, 0.03, 0.01});
     // A non-finite value is refused and nothing is written.
     EXPECT_THROW(log.append({0.2, 8, 1e-3, std::nan(""), 0.0, 0.0, 10.0}), std::runtime_error);
     EXPECT_EQ(log.rows(), 2u);
@@ -314,13 +314,15 @@ TEST(EnergyLog, HeaderAndDissipatedEnergyIdentity) {
   std::string header;
   for (std::size_t k = 0; k < rows[0].size(); ++k) header += (k ? "," : "") + rows[0][k];
   EXPECT_EQ(header,
-            "time,step,dt,E_p,E_k,E_d,E_strain,E_p0,E_k0,W_int,W_damp,W_bc,E_err,W_transfer");
+            "time,step,dt,E_p,E_k,E_d,E_strain,E_p0,E_k0,W_int,W_damp,W_bc,E_err,W_transfer,"
+            "W_transfer_walls");
   EXPECT_EQ(std::stod(rows[1][0]), 0.0);
   EXPECT_DOUBLE_EQ(std::stod(rows[2][5]), 10.0 - 9.5 - 0.25);
   EXPECT_EQ(rows[2][1], "7");
   // E_err = E_p0 + E_k0 - E_p - E_k - W_int - W_damp - W_bc
   EXPECT_DOUBLE_EQ(std::stod(rows[2][12]), 10.0 + 0.5 - 9.5 - 0.25 - 0.4 - 0.2 - 0.05);
   EXPECT_DOUBLE_EQ(std::stod(rows[2][13]), 0.03);  // W_transfer, part of E_err
+  EXPECT_DOUBLE_EQ(std::stod(rows[2][14]), 0.01);  // W_transfer_walls, part of W_transfer
 }
 
 TEST(SummaryJson, NonFiniteNumbersBecomeNull) {
@@ -340,7 +342,7 @@ TEST(SummaryJson, NonFiniteNumbersBecomeNull) {
 
 // The energy_budget object: released = E_p0 + E_k0 - E_p - E_k = 10 + 0.5 - 6 - 0.5 = 4 J,
 // split into W_int 2.5, W_bc 0.5, W_damp 0.2 and the residual 0.8 J, of which the transfers
-// removed 0.6 J and 0.2 J is the rest.
+// removed 0.6 J (0.1 J of it at the walls) and 0.2 J is the rest.
 TEST(SummaryJson, EnergyBudgetSplitsTheReleasedEnergy) {
   RunSummary s;
   s.status = "complete";
@@ -352,6 +354,7 @@ TEST(SummaryJson, EnergyBudgetSplitsTheReleasedEnergy) {
   s.W_bc_J = 0.5;
   s.W_damp_J = 0.2;
   s.W_transfer_J = 0.6;
+  s.W_transfer_walls_J = 0.1;
   const std::string json = to_json(s);
   const auto object = json.substr(json.find("\"energy_budget\": {"));
   const std::string body = object.substr(0, object.find('}'));
@@ -359,7 +362,8 @@ TEST(SummaryJson, EnergyBudgetSplitsTheReleasedEnergy) {
        {"\"released_J\": 4", "\"W_int_J\": 2.5", "\"W_bc_J\": 0.5", "\"W_damp_J\": 0.2",
         "\"E_err_J\": 0.8", "\"W_int_share\": 0.625", "\"W_bc_share\": 0.125",
         "\"W_damp_share\": 0.05", "\"E_err_share\": 0.2", "\"E_err_transfer_J\": 0.6",
-        "\"E_err_transfer_share\": 0.15", "\"E_err_other_share\": 0.05"}) {
+        "\"E_err_transfer_share\": 0.15", "\"E_err_other_share\": 0.05",
+        "\"E_err_transfer_walls_J\": 0.1", "\"E_err_transfer_walls_share\": 0.025"}) {
     EXPECT_NE(body.find(kv), std::string::npos) << kv << " not in " << body;
   }
 }
@@ -413,7 +417,7 @@ TEST(RunOutputs, AShortRunWritesEveryOutputConsistently) {
   EXPECT_EQ(std::stod(rows[1][0]), 0.0);
   EXPECT_EQ(rows.size() - 1, static_cast<std::size_t>(r.summary.steps) + 1);  // every step
   for (std::size_t k = 1; k < rows.size(); ++k) {
-    ASSERT_EQ(rows[k].size(), 14u);
+    ASSERT_EQ(rows[k].size(), 15u);
     const double E_p = std::stod(rows[k][3]), E_k = std::stod(rows[k][4]);
     const double E_d = std::stod(rows[k][5]), E_p0 = std::stod(rows[k][7]);
     EXPECT_NEAR(E_d, E_p0 - E_p - E_k, 1e-9 * std::abs(E_p0) + 1e-12);

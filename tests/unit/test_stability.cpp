@@ -223,7 +223,8 @@ TEST(EnergyBudget, ClosesTheBalanceOfTheElasticColumn) {
     std::string line;
     std::getline(in, line);
     ASSERT_EQ(line,
-              "time,step,dt,E_p,E_k,E_d,E_strain,E_p0,E_k0,W_int,W_damp,W_bc,E_err,W_transfer");
+              "time,step,dt,E_p,E_k,E_d,E_strain,E_p0,E_k0,W_int,W_damp,W_bc,E_err,W_transfer,"
+              "W_transfer_walls");
     double released = 0.0, err = 0.0, int_vs_strain = 0.0, W_damp = 0.0;
     std::size_t rows = 0;
     while (std::getline(in, line)) {

@@ -97,6 +97,7 @@ void write_mpm_checkpoint(const std::string& dir, const SolverState& s, const Dr
     f.attribute("W_damp", s.budget.W_damp);
     f.attribute("W_bc", s.budget.W_bc);
     f.attribute("W_transfer", s.budget.W_transfer);
+    f.attribute("W_transfer_walls", s.budget.W_transfer_walls);
     f.attribute("step", s.step);
     f.attribute("no_contact_updates", s.no_contact_updates);
     f.attribute("removed", static_cast<std::int64_t>(s.removed));
@@ -195,6 +196,8 @@ void read_mpm_checkpoint(const std::string& dir, SolverState& s, DriverState& d)
   s.budget.W_bc = f.attribute_double("W_bc");
   // Checkpoints written before W_transfer was measured: the resumed run counts from here.
   s.budget.W_transfer = f.has_attribute("W_transfer") ? f.attribute_double("W_transfer") : 0.0;
+  s.budget.W_transfer_walls =
+      f.has_attribute("W_transfer_walls") ? f.attribute_double("W_transfer_walls") : 0.0;
   s.step = f.attribute_int64("step");
   s.no_contact_updates = f.attribute_int64("no_contact_updates");
   s.removed = static_cast<std::size_t>(f.attribute_int64("removed"));

@@ -5,8 +5,9 @@
 // defines it, else 0), E_p0 (potential energy at t=0), then the energy budget
 // (energy_budget.hpp): E_k0 (kinetic energy at t=0), W_int (stress work), W_damp (local
 // damping), W_bc (walls and velocity constraints) and
-// E_err = E_p0 + E_k0 - E_p - E_k - W_int - W_damp - W_bc, and W_transfer (the part of E_err
-// the particle-grid transfers remove) — all in J.
+// E_err = E_p0 + E_k0 - E_p - E_k - W_int - W_damp - W_bc, W_transfer (the part of E_err
+// the particle-grid transfers remove) and W_transfer_walls (the part of W_transfer at the
+// walls) — all in J.
 // Rows are appended and flushed as the run goes, so a long run can be watched.
 #pragma once
 
@@ -29,12 +30,14 @@ struct EnergyRow {
   double W_damp = 0.0;
   double W_bc = 0.0;
   double W_transfer = 0.0;
+  double W_transfer_walls = 0.0;
 };
 
 class EnergyLog {
  public:
   static constexpr const char* kHeader =
-      "time,step,dt,E_p,E_k,E_d,E_strain,E_p0,E_k0,W_int,W_damp,W_bc,E_err,W_transfer";
+      "time,step,dt,E_p,E_k,E_d,E_strain,E_p0,E_k0,W_int,W_damp,W_bc,E_err,W_transfer,"
+      "W_transfer_walls";
 
   // A new log (last_step < 0), or the log of a resumed run: keeps the header and the rows up
   // to `last_step` (rows the interrupted run wrote after its checkpoint are dropped), then

@@ -73,7 +73,7 @@ void RunOutputs::log_energy(const Solver& solver, double dt) {
   const EnergyBudget& b = solver.energy_budget();
   energy_->append({solver.time(), solver.step_count(), dt, e.E_p, e.E_k, e.E_strain,
                    solver.initial_potential_energy(), b.E_k0, b.W_int, b.W_damp, b.W_bc,
-                   b.W_transfer});
+                   b.W_transfer, b.W_transfer_walls});
   last_energy_step_ = solver.step_count();
 }
 

@@ -130,12 +130,14 @@ std::string to_json(const RunSummary& s) {
                                         {"W_damp_J", s.W_damp_J},
                                         {"E_err_J", E_err},
                                         {"E_err_transfer_J", s.W_transfer_J},
+                                        {"E_err_transfer_walls_J", s.W_transfer_walls_J},
                                         {"E_err_other_J", E_err - s.W_transfer_J},
                                         {"W_int_share", share(s.W_int_J)},
                                         {"W_bc_share", share(s.W_bc_J)},
                                         {"W_damp_share", share(s.W_damp_J)},
                                         {"E_err_share", share(E_err)},
                                         {"E_err_transfer_share", share(s.W_transfer_J)},
+                                        {"E_err_transfer_walls_share", share(s.W_transfer_walls_J)},
                                         {"E_err_other_share", share(E_err - s.W_transfer_J)}}));
   if (!s.stop_reason.empty()) w.raw("stop", tagged_object("reason", s.stop_reason, s.stop));
   if (!s.verification_kind.empty()) {

@@ -21,7 +21,8 @@
 //                      W_bc_J (walls and velocity constraints, e.g. the base), W_damp_J (local
 //                      damping) and the residual E_err_J (transfers and time integration),
 //                      E_err_J split into E_err_transfer_J (the kinetic energy the
-//                      particle-grid transfers remove, W_transfer in energy_budget.hpp) and
+//                      particle-grid transfers remove, W_transfer in energy_budget.hpp; of
+//                      it E_err_transfer_walls_J at the walls, W_transfer_walls) and
 //                      E_err_other_J (time integration, instabilities); each also as a
 //                      share of released_J (*_share)
 //   verification       {"kind": ..., <error figures of that kind>} (absent for kind none)
@@ -65,7 +66,8 @@ struct RunSummary {
   double W_int_J = 0.0;
   double W_damp_J = 0.0;
   double W_bc_J = 0.0;
-  double W_transfer_J = 0.0;  // the part of E_err the transfers remove
+  double W_transfer_J = 0.0;        // the part of E_err the transfers remove
+  double W_transfer_walls_J = 0.0;  // the part of W_transfer_J at the walls
   // Figures of an analysis (e.g. column_collapse), written at the top level in this order.
   std::vector<std::pair<std::string, double>> analysis;
   std::string stop_reason;                                   // empty: no "stop" object

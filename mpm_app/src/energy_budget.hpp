@@ -25,26 +25,22 @@
 //          (the stress work on the points against the grid's force work, gravity's work on
 //          the positions against the grid's) and any energy an instability injects.
 //   W_transfer_walls  the part of W_transfer at the walls: the work the walls' velocity jumps
-//          dv_i = v_i - v_free,i do on the points, -sum_p m_p (sum_i N_ip dv_i) . (v_p^n +
-//          v_p^{n+1}) / 2, less their work on the grid (W_bc's step). Every transfer moves a
-//          point by sum_i N_ip dv_i for the walls (v_p^{n+1} - v_p^n = sum_i N_ip (v_i - v0_i)
-//          + (1 - flip) (v_target's own part)), so the split is exact. When the points that
-//          share a wall node move at different speeds, they lose more than the node: for a
-//          FLIP point the excess is 1/2 |dv_i|^2 sum_p m_p N_ip (1 - N_ip) per node and step, a
-//          jump of O(1), not O(dt), so it does not vanish with the step (docs/transfers.md, "The
-//          walls' share of the transfers").
+//          dv_i = v_i - v_free,i do on the points, -sum_p m_p sum_i N_ip dv_i . (v_mean +
+//          C_mean (x_i - x_p)) (means over G2P; C only with APIC), less their work on the grid
+//          (W_bc's step); G2P sums it (transfers.hpp, WallWork). Every transfer moves a point by
+//          sum_i N_ip dv_i for the walls (v_p^{n+1} - v_p^n = sum_i N_ip (v_i - v0_i) +
+//          (1 - flip) (v_target's own part)), so the split is exact. A point only partly on a
+//          wall node keeps part of its speed, and the points that share the node lose more
+//          than the node: for FLIP points 1/2 |dv_i|^2 sum_p m_p N_ip (1 - N_ip) more per node
+//          and step, with a jump of O(1), not O(dt), so it does not vanish with the step
+//          (docs/transfers.md, "The walls' share of the transfers").
 // Serial sums in node/point order, so the figures do not depend on the thread count.
 #pragma once
 
-#include <cassert>
-#include <cstddef>
 #include <vector>
 
 #include "grid.hpp"
-#include "node_loops.hpp"
-#include "parallel.hpp"
 #include "particles.hpp"
-#include "transfers.hpp"
 
 namespace mpmdem::mpm {
 
@@ -71,50 +67,14 @@ class GridWork {
   void before_update(const Grid& grid, const Vec3& gravity, double damping);
   void before_bc(const Grid& grid) { v_free_ = grid.v_i; }
   void after_bc(const Grid& grid, double dt, EnergyBudget& budget) const;
-  // After G2P (stencils at x_p^n; v_before, C_before the points' velocities and, with APIC,
-  // affine matrices before it, else empty): the work the walls' velocity jumps did on the
-  // points, -sum_p m_p sum_i N_ip dv_i . (v_mean + C_mean (x_i - x_p)), means of before and
-  // after (W_transfer_walls is this less W_bc's step). With APIC the point's velocity at a
-  // node holds its affine part, which P2G puts there and the wall stops. Summed in point order.
-  template <int W>
-  double wall_work_on_points(const Grid& grid, const Stencils<W>& s, const Particles& p,
-                             const std::vector<Vec3>& v_before,
-                             const std::vector<Mat3>& C_before) const;
+  // The node velocities before the walls and constraints (after before_bc()): G2P's
+  // WallWork measures W_transfer_walls from them (transfers.hpp).
+  const std::vector<Vec3>& v_free() const { return v_free_; }
 
  private:
-  std::vector<Vec3> f_damp_;             // damping force per node (empty: no damping)
-  std::vector<Vec3> v_free_;             // node velocity before the boundary conditions
-  mutable std::vector<double> w_point_;  // wall_work_on_points' per-point terms
+  std::vector<Vec3> f_damp_;  // damping force per node (empty: no damping)
+  std::vector<Vec3> v_free_;  // node velocity before the boundary conditions
 };
-
-template <int W>
-double GridWork::wall_work_on_points(const Grid& grid, const Stencils<W>& s, const Particles& p,
-                                     const std::vector<Vec3>& v_before,
-                                     const std::vector<Mat3>& C_before) const {
-  assert(v_free_.size() == grid.size() && v_before.size() == p.size());
-  const bool affine = !C_before.empty();
-  assert(!affine || C_before.size() == p.size());
-  bool any = false;
-  for (std::size_t i = 0; i < grid.size() && !any; ++i) any = grid.v_i[i] != v_free_[i];
-  if (!any) return 0.0;  // no wall or constraint acted this step
-  const auto n = static_cast<std::ptrdiff_t>(p.size());
-  w_point_.resize(p.size());
-#pragma omp parallel for schedule(static) if (n > kParallelMin)
-  for (std::ptrdiff_t q = 0; q < n; ++q) {
-    const Vec3 v_mean = 0.5 * (v_before[q] + p.v[q]);
-    const Mat3 C_mean = affine ? (0.5 * (C_before[q] + p.C[q])).eval() : Mat3::Zero().eval();
-    double w = 0.0;
-    detail::for_each_node_affine(
-        grid, s[q], [&](std::size_t i, double N, const Vec3&, const Vec3& dx, const Vec3&) {
-          const Vec3 jump = grid.v_i[i] - v_free_[i];
-          w += N * jump.dot(affine ? (v_mean + C_mean * dx).eval() : v_mean);
-        });
-    w_point_[q] = -p.m[q] * w;
-  }
-  double w = 0.0;
-  for (double x : w_point_) w += x;
-  return w;
-}
 
 // sum_p V_p sigma_p : sym(dF_p - I) with V_p the current volume (volume_after_update: the
 // volume after dF_p was applied) or V_p / det(dF_p) (the volume before the step).

@@ -293,14 +293,12 @@ void Solver::step_with(Stencils<Shape::kWidth>& stencils, double dt) {
   const auto t2 = Clock::now();
   // Update point velocities (APIC or PIC/FLIP) and positions; MUSL re-projects the momentum.
   const bool musl = sp.scheme == Scheme::kMUSL;
-  v_before_g2p_ = p_.v;
-  if (sp.transfer == Transfer::kAPIC) C_before_g2p_ = p_.C;
-  g2p(p_, stencils, grid_, sp.transfer, flip_fraction(sp, dt), dt, musl, buffers_);
+  g2p(p_, stencils, grid_, sp.transfer, flip_fraction(sp, dt), dt, musl, buffers_,
+      {&grid_work_.v_free(), &wall_work_});
   E_k_points_ = kinetic_energy(p_);
   step_work.W_transfer -= E_k_points_;
-  step_work.W_transfer_walls =
-      grid_work_.wall_work_on_points(grid_, stencils, p_, v_before_g2p_, C_before_g2p_) -
-      step_work.W_bc;
+  step_work.W_transfer_walls = -step_work.W_bc;
+  for (double w : wall_work_) step_work.W_transfer_walls += w;  // point order
   if (musl) {
     grid_velocity_from_momentum(grid_);
     bc_.apply(grid_.v_i);

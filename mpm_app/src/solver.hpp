@@ -169,8 +169,7 @@ class Solver {
   // (< 0: not known, after a restart, a restored step or removed points).
   double E_k_points_ = -1.0;
   GridWork grid_work_;
-  std::vector<Vec3> v_before_g2p_;  // the points' velocities before G2P (W_transfer_walls)
-  std::vector<Mat3> C_before_g2p_;  // and their affine matrices (APIC only, else empty)
+  std::vector<double> wall_work_;  // per point: the walls' work in G2P (W_transfer_walls)
   std::size_t removed_ = 0;
   std::int64_t no_contact_updates_ = 0;
   std::vector<std::string> events_;

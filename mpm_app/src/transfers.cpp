@@ -121,10 +121,14 @@ void grid_update(Grid& grid, const Vec3& gravity, double damping, double dt) {
 
 template <int W>
 void g2p(Particles& p, const Stencils<W>& s, Grid& grid, Transfer transfer, double flip, double dt,
-         bool reproject, ScatterBuffers& buf) {
+         bool reproject, ScatterBuffers& buf, const WallWork& walls) {
   const int threads = omp_get_max_threads();
   if (reproject) buf.resize(grid.size(), threads);
   const auto n = static_cast<std::ptrdiff_t>(p.size());
+  const bool track = walls.v_free != nullptr;
+  assert(!track || (walls.work != nullptr && walls.v_free->size() == grid.size()));
+  if (track) walls.work->resize(p.size());
+  const Vec3* v_free = track ? walls.v_free->data() : nullptr;
   assert(p.status.size() == p.size());
   constexpr auto no_contacts = static_cast<std::int32_t>(protocol::RveStatus::kNoContacts);
 #pragma omp parallel num_threads(threads) if (n > kParallelMin)
@@ -139,16 +143,25 @@ void g2p(Particles& p, const Stencils<W>& s, Grid& grid, Transfer transfer, doub
       // Every transfer blends v_p = flip (v_p + sum N (v_i - v0_i)) + (1 - flip) v_target,
       // flip > 0 only with a FLIP share (solver.flip_time_scale or flip_velocity_scale).
       Vec3 v_pic = Vec3::Zero(), dv = Vec3::Zero(), v_target;
+      Vec3 jump = Vec3::Zero();     // sum N (v_i - v_free,i): the walls' share of dv
+      Mat3 jump_dx = Mat3::Zero();  // sum N (v_i - v_free,i) (x_i - x_p)^T (APIC)
+      const Vec3 v_old = p.v[q];
+      const Mat3 C_old = transfer == Transfer::kAPIC ? p.C[q] : Mat3::Zero().eval();
       if (transfer == Transfer::kAPIC) {
         // APIC: v_target = sum_i N_ip v_i,  C_p = sum_i v_i (D_p^-1 N_ip (x_i - x_p))^T; with a
         // FLIP share C_p stays APIC's (Fei et al. 2021).
         Mat3 C = Mat3::Zero();
-        for_each_node_affine(grid, s[q],
-                             [&](std::size_t i, double N, const Vec3&, const Vec3&, const Vec3& g) {
-                               v_pic += N * grid.v_i[i];
-                               dv += N * (grid.v_i[i] - grid.v0_i[i]);
-                               C += grid.v_i[i] * g.transpose();
-                             });
+        for_each_node_affine(
+            grid, s[q], [&](std::size_t i, double N, const Vec3&, const Vec3& dx, const Vec3& g) {
+              v_pic += N * grid.v_i[i];
+              dv += N * (grid.v_i[i] - grid.v0_i[i]);
+              C.noalias() += grid.v_i[i] * g.transpose();
+              if (track && grid.v_i[i] != v_free[i]) {  // most nodes: no wall acted
+                const Vec3 j = N * (grid.v_i[i] - v_free[i]);
+                jump += j;
+                jump_dx.noalias() += j * dx.transpose();
+              }
+            });
         v_target = v_pic;
         // A point without contacts (a disconnected Drucker-Prager point, an RVE that lost
         // all contacts) is not a continuum: it carries no affine velocity field. Alone near
@@ -162,6 +175,7 @@ void g2p(Particles& p, const Stencils<W>& s, Grid& grid, Transfer transfer, doub
           v_pic += N * grid.v_i[i];
           dv += N * (grid.v_i[i] - grid.v0_i[i]);
           v_star += N * grid.vstar_i[i];
+          if (track) jump += N * (grid.v_i[i] - v_free[i]);
         });
         v_target = v_star + dv;
       } else {
@@ -169,10 +183,19 @@ void g2p(Particles& p, const Stencils<W>& s, Grid& grid, Transfer transfer, doub
         for_each_node(grid, s[q], [&](std::size_t i, double N, const Vec3&) {
           v_pic += N * grid.v_i[i];
           dv += N * (grid.v_i[i] - grid.v0_i[i]);
+          if (track) jump += N * (grid.v_i[i] - v_free[i]);
         });
         v_target = v_pic;
       }
       p.v[q] = flip * (p.v[q] + dv) + (1.0 - flip) * v_target;
+      if (track) {
+        // sum_i N jump_i . C_mean dx_i = (sum_i N jump_i dx_i^T) : C_mean; 0 without APIC.
+        double w = jump.dot(0.5 * (v_old + p.v[q]));
+        if (transfer == Transfer::kAPIC) {
+          w += (jump_dx.array() * (0.5 * (C_old + p.C[q])).array()).sum();
+        }
+        (*walls.work)[q] = -p.m[q] * w;
+      }
       p.x[q] += dt * v_pic;
       if (reproject) {
         // MUSL: the new point momenta back on the grid (same stencils, same transfer).
@@ -260,9 +283,9 @@ template void compute_stencils<QuadraticBSplineShape>(const Grid&, const std::ve
 template void p2g<2>(const Particles&, const Stencils<2>&, Grid&, Transfer, ScatterBuffers&);
 template void p2g<3>(const Particles&, const Stencils<3>&, Grid&, Transfer, ScatterBuffers&);
 template void g2p<2>(Particles&, const Stencils<2>&, Grid&, Transfer, double, double, bool,
-                     ScatterBuffers&);
+                     ScatterBuffers&, const WallWork&);
 template void g2p<3>(Particles&, const Stencils<3>&, Grid&, Transfer, double, double, bool,
-                     ScatterBuffers&);
+                     ScatterBuffers&, const WallWork&);
 template Vec3 angular_momentum<2>(const Particles&, const Stencils<2>&, const Grid&, Transfer);
 template Vec3 angular_momentum<3>(const Particles&, const Stencils<3>&, const Grid&, Transfer);
 template std::size_t update_deformation<2>(Particles&, const Stencils<2>&, const Grid&, double);

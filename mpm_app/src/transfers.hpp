@@ -52,9 +52,17 @@ void grid_update(Grid& grid, const Vec3& gravity, double damping, double dt);
 //             the PIC/FLIP blend below and C_p stays APIC's (Fei et al. 2021);
 //   PIC/FLIP: v_p = flip (v_p + sum N (v_i - v0_i)) + (1 - flip) sum N v_i;
 //   XPIC:     v_p = sum N (v*_i + v_i - v0_i)  (grid.vstar_i from xpic_velocity).
+// With `walls` (v_free: the node velocities before the walls and constraints), also writes
+// per point the work their velocity jumps v_i - v_free,i did on it (energy_budget.hpp,
+// W_transfer_walls): -m_p sum_i N_ip (v_i - v_free,i) . (v_mean + C_mean (x_i - x_p)), the
+// means over the point's velocity and (APIC) affine matrix before and after.
+struct WallWork {
+  const std::vector<Vec3>* v_free = nullptr;  // per node
+  std::vector<double>* work = nullptr;        // per point, resized by g2p [J]
+};
 template <int W>
 void g2p(Particles& p, const Stencils<W>& s, Grid& grid, Transfer transfer, double flip, double dt,
-         bool reproject, ScatterBuffers& buf);
+         bool reproject, ScatterBuffers& buf, const WallWork& walls = {});
 
 // Angular momentum about the origin of the points, as the next P2G puts it on the grid:
 // sum_p m_p x_p x v_p, plus with APIC sum_p sum_i N_ip (x_i - x_p) x m_p C_p (x_i - x_p).

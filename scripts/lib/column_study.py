@@ -30,9 +30,10 @@ def run_column(app, cfg, out, name, study):
     """Writes cfg to OUT/NAME.yaml, runs it into OUT/NAME and returns summary.json as a dict
     with more keys: Eerr_over_released (the energy budget's residual E_err as a share of the
     potential energy released; energies.csv's last row), Etransfer_over_released (the part
-    of E_err the particle-grid transfers removed, W_transfer), Eother_over_released (the
-    rest: time integration) and run_s (wall time of the process). On failure exits naming
-    the run."""
+    of E_err the particle-grid transfers removed, W_transfer), Etransfer_walls_over_released
+    (the part of that at the walls, W_transfer_walls; NaN for logs without it),
+    Eother_over_released (the rest: time integration) and run_s (wall time of the process).
+    On failure exits naming the run."""
     path = os.path.join(out, name + ".yaml")
     with open(path, "w") as f:
         yaml.safe_dump(cfg, f, sort_keys=False)
@@ -50,6 +51,7 @@ def run_column(app, cfg, out, name, study):
     share = (lambda W: W / released) if released > 0 else (lambda W: float("nan"))
     s["Eerr_over_released"] = share(float(last["E_err"]))
     s["Etransfer_over_released"] = share(float(last["W_transfer"]))
+    s["Etransfer_walls_over_released"] = share(float(last.get("W_transfer_walls", "nan")))
     s["Eother_over_released"] = share(float(last["E_err"]) - float(last["W_transfer"]))
     s["run_s"] = time.time() - t0
     return s

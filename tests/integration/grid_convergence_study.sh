@@ -4,7 +4,8 @@
 # is conserved, the CSV matches the runs' summaries, and the Coulomb friction base
 # (mu_b = 0.52) lets the deposit run out farther than the no-slip base on each grid (with the
 # scene's clamped B-splines the no-slip base holds only the wall's own function, so the margin
-# is small on the finer grid: 0.23 and 0.04 m measured). The Richardson analysis is checked on
+# is small on the finer grid: 0.23 and 0.04 m measured), and the transfers' loss at the walls
+# is a positive part of theirs. The Richardson analysis is checked on
 # f(h) = 1 + h^2 and 1 + h (orders 2 and 1, extrapolated value 1), on an oscillating and on a
 # diverging sequence. A base that is not a wall condition exits non-zero and runs nothing.
 # Env: MPMDEM_BIN (build dir), MPMDEM_SRC (source dir).
@@ -47,6 +48,10 @@ for r in rows:
     assert s["status"] == "complete", (name, s["status"])
     assert s["mass_final_kg"] == s["mass_initial_kg"] and s["removed_points"] == 0, name
     assert float(r["runout_front_m"]) == s["runout_front_m"] <= s["runout_m"], name
+    # The transfers' loss at the walls is a positive part of the transfers' (energies.csv).
+    walls = float(r["Etransfer_walls_over_released"])
+    transfers = float(r["Etransfer_over_released"])
+    assert 0 < walls < transfers, (name, walls, transfers)
     front[(r["base"], float(r["h"]))] = s["runout_front_m"]
 for h in (0.11, 0.055):
     assert front[("friction", h)] > front[("fixed", h)], (h, front)

@@ -61,7 +61,10 @@ took=$(/usr/bin/python3 -c "print(round($EPOCHREALTIME - $killed_at, 2))")
 ((rc == 4)) && ok "scripts/run exited with 4" || fail "scripts/run exited with $rc, expected 4"
 /usr/bin/python3 -c "import sys; sys.exit(0 if $took <= 30 else 1)" && ok "it ended $took s after the kill (<= 30 s)" ||
   fail "it ended $took s after the kill (> 30 s)"
-grep -qE "DEM server rank 1 \(pid $victim on host [^)]+\) died during step [0-9]+" "$work/killed.log" &&
+# The kill lands during a step or, when the run has reached the next checkpoint by then,
+# during that checkpoint's exchange; both name the rank, its pid and the exchange.
+grep -qE "DEM server rank 1 \(pid $victim on host [^)]+\) died during (step|the checkpoint after step) [0-9]+" \
+  "$work/killed.log" &&
   ok "mpm_app names rank 1 and its pid" || fail "no 'DEM server rank 1 (pid $victim ...) died' in the log"
 grep -q "scripts/run --resume $work/killed" "$work/killed.log" && ok "scripts/run says how to resume" ||
   fail "scripts/run does not print how to resume"

@@ -146,7 +146,7 @@ void g2p(Particles& p, const Stencils<W>& s, Grid& grid, Transfer transfer, doub
       Vec3 jump = Vec3::Zero();     // sum N (v_i - v_free,i): the walls' share of dv
       Mat3 jump_dx = Mat3::Zero();  // sum N (v_i - v_free,i) (x_i - x_p)^T (APIC)
       const Vec3 v_old = p.v[q];
-      const Mat3 C_old = transfer == Transfer::kAPIC ? p.C[q] : Mat3::Zero().eval();
+      const Mat3 C_old = track && transfer == Transfer::kAPIC ? p.C[q] : Mat3::Zero().eval();
       if (transfer == Transfer::kAPIC) {
         // APIC: v_target = sum_i N_ip v_i,  C_p = sum_i v_i (D_p^-1 N_ip (x_i - x_p))^T; with a
         // FLIP share C_p stays APIC's (Fei et al. 2021).

@@ -75,3 +75,20 @@ def richardson(f, ratio=2.0, safety=1.25):
     d = ratio ** p - 1.0
     return {"kind": "converging", "p": p, "extrapolated": f1 + (f1 - f2) / d,
             "gci": safety * abs(e21 / f1) / d}
+
+
+def linear_fit(x, y):
+    """Least-squares line y = a + b x through the points; returns (a, b, R^2). Needs at least two
+    distinct x; R^2 is 1 where y does not vary."""
+    n = len(x)
+    if n != len(y) or n < 2:
+        raise ValueError(f"linear_fit: need two or more (x, y) pairs, got {n} and {len(y)}")
+    mx, my = sum(x) / n, sum(y) / n
+    sxx = sum((xi - mx) ** 2 for xi in x)
+    if sxx == 0.0:
+        raise ValueError("linear_fit: all x are equal")
+    b = sum((xi - mx) * (yi - my) for xi, yi in zip(x, y)) / sxx
+    a = my - b * mx
+    syy = sum((yi - my) ** 2 for yi in y)
+    sres = sum((yi - a - b * xi) ** 2 for xi, yi in zip(x, y))
+    return a, b, (1.0 - sres / syy) if syy > 0.0 else 1.0

@@ -8,7 +8,7 @@
 # is a positive part of theirs. The Richardson analysis is checked on
 # f(h) = 1 + h^2 and 1 + h (orders 2 and 1, extrapolated value 1), on an oscillating and on a
 # diverging sequence. A base that is not a wall condition exits non-zero and runs nothing.
-# scripts/runout_vs_dissipation's line fit is checked on made-up studies.
+# scripts/runout_vs_dissipation's grouping and line fit are checked on made-up runs.
 # Env: MPMDEM_BIN (build dir), MPMDEM_SRC (source dir).
 set -uo pipefail
 src=${MPMDEM_SRC:-$(cd "$(dirname "$0")/../.." && pwd)}
@@ -35,67 +35,42 @@ assert abs(a - 4) < 1e-12 and abs(b + 8) < 1e-12 and abs(r2 - 1) < 1e-12, (a, b,
 a, b, r2 = linear_fit([0, 1, 2, 3], [0, 1, 0, 1])  # least squares: 0.2 + 0.2 x, R^2 0.2
 assert abs(a - 0.2) < 1e-12 and abs(b - 0.2) < 1e-12 and abs(r2 - 0.2) < 1e-12, (a, b, r2)
 PY
-# scripts/runout_vs_dissipation on two made-up studies whose runs lie on runout = 4 - 8 N and
-# 99 % mass = 3 - 5 N (N = 1 - W_int_share) on the fixed base; the second study repeats one run
-# of the first (counted once), and the friction base has too few runs for a fit.
-PYTHONPATH="$src/scripts/lib" /usr/bin/python3 - "$work/fit" <<'PY' || fail "made-up studies"
-import csv, json, os, sys
+# scripts/runout_vs_dissipation on two made-up folders of runs whose slices on the fixed base
+# lie on runout = 4 - 8 N and 99 % mass = 3 - 5 N (N = 1 - W_int_share); the second folder
+# repeats one run of the first (counted once) and holds a 3D run (a group of its own), the
+# friction base has too few runs for a fit, and a run that did not finish is left out.
+PYTHONPATH="$src/scripts/lib" /usr/bin/python3 - "$work/fit" <<'PY' || fail "made-up runs"
+import json, os, sys
+import yaml
 root = sys.argv[1]
-for study, rows in (("a", [("fixed", 0.1, 0.05), ("fixed", 0.05, 0.1), ("friction", 0.1, 0.2)]),
-                    ("b", [("fixed", 0.05, 0.1), ("fixed", 0.025, 0.3)])):
-    d = os.path.join(root, study)
-    os.makedirs(d, exist_ok=True)
-    with open(os.path.join(d, "study.csv"), "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(["base", "ppc", "h"])
-        for base, h, N in rows:
-            w.writerow([base, 2, h])
-            run = os.path.join(d, "runs", f"{base}_ppc2_h{h:g}")
-            os.makedirs(run, exist_ok=True)
-            json.dump({"energy_budget": {"W_int_share": 1 - N}, "runout_m": 4 - 8 * N,
-                       "runout_mass99_m": 3 - 5 * N}, open(os.path.join(run, "summary.json"), "w"))
+for study, rows in (("a", [("fixed", 1, 0.05, "complete"), ("fixed", 1, 0.1, "complete"),
+                           ("friction", 1, 0.2, "complete"), ("fixed", 1, 0.2, "truncated")]),
+                    ("b", [("fixed", 1, 0.1, "complete"), ("fixed", 1, 0.3, "complete"),
+                           ("fixed", 4, 0.1, "complete")])):
+    for i, (base, ny, N, status) in enumerate(rows):
+        run = os.path.join(root, study, "runs", f"r{i}")
+        os.makedirs(run, exist_ok=True)
+        scene = os.path.join(run, "scene.yaml")
+        yaml.safe_dump({"grid": {"cell_size": 0.1, "extent": [4.4, 0.1 * ny, 1.5]},
+                        "walls": {"z_min": base}}, open(scene, "w"))
+        json.dump({"status": status, "config_file": scene, "model": "drucker_prager",
+                   "aspect_ratio": 2.4, "energy_budget": {"W_int_share": 1 - N},
+                   "runout_m": 4 - 8 * N, "runout_mass99_m": 3 - 5 * N},
+                  open(os.path.join(run, "summary.json"), "w"))
 PY
 "$src/scripts/runout_vs_dissipation" "$work/fit/a" "$work/fit/b" >"$work/fit.md" 2>&1 ||
   { cat "$work/fit.md" >&2; fail "runout_vs_dissipation"; }
-grep -q "^| fixed | 3 | 0.050-0.300 | runout | 4.00 | -0.080 | 1.00 |$" "$work/fit.md" &&
-  grep -q "^| fixed | 3 | 0.050-0.300 | 99 % of the mass within | 3.00 | -0.050 | 1.00 |$" "$work/fit.md" &&
-  grep -q "^| friction | 1 | - | no fit: fewer than 3 runs | - | - | - |$" "$work/fit.md" ||
+row="| drucker_prager | slice | fixed | 2.4 | 3 | 0.050-0.300"
+grep -qF "$row | runout | 4.00 | -0.080 | 1.00 |" "$work/fit.md" &&
+  grep -qF "$row | 99 % of the mass within | 3.00 | -0.050 | 1.00 |" "$work/fit.md" &&
+  grep -qF "| drucker_prager | slice | friction | 2.4 | 1 | - | no fit: fewer than 3 runs |" "$work/fit.md" &&
+  grep -qF "| drucker_prager | 3D | fixed | 2.4 | 1 | - | no fit" "$work/fit.md" &&
+  [[ $(grep -c "^| drucker_prager" "$work/fit.md") == 4 ]] ||
   { cat "$work/fit.md" >&2; fail "runout_vs_dissipation's table"; }
-if "$src/scripts/runout_vs_dissipation" "$work/nothing" >"$work/fit_bad.log" 2>&1; then
-  fail "a folder without study.csv was accepted"
+mkdir -p "$work/empty"
+if "$src/scripts/runout_vs_dissipation" "$work/empty" >"$work/fit_bad.log" 2>&1; then
+  fail "a folder without runs was accepted"
 fi
-grep -q "no study.csv in '$work/nothing'" "$work/fit_bad.log" || { cat "$work/fit_bad.log" >&2; fail "no message"; }
-"$src/scripts/grid_convergence_study" --out "$work/s" --cells "0.11 0.055" --ppc 2 \
-  >"$work/s.log" 2>&1 || { tail -n 30 "$work/s.log" >&2; fail "study failed"; }
-/usr/bin/python3 - "$work/s" <<'PY' || exit 1
-import csv, json, sys
-import yaml
-w = sys.argv[1]
-rows = list(csv.DictReader(open(w + "/study.csv")))
-assert [(r["base"], float(r["h"])) for r in rows] == [
-    ("fixed", 0.11), ("fixed", 0.055), ("friction", 0.11), ("friction", 0.055)], rows
-front = {}
-for r in rows:
-    name = f"{r['base']}_ppc2_h{float(r['h']):g}"
-    cfg = yaml.safe_load(open(f"{w}/runs/{name}.yaml"))
-    assert cfg["grid"]["cell_size"] == float(r["h"]) and cfg["walls"]["z_min"] == r["base"]
-    assert cfg["walls"].get("friction") == (0.52 if r["base"] == "friction" else None)
-    s = json.load(open(f"{w}/runs/{name}/summary.json"))
-    assert s["status"] == "complete", (name, s["status"])
-    assert s["mass_final_kg"] == s["mass_initial_kg"] and s["removed_points"] == 0, name
-    assert float(r["runout_front_m"]) == s["runout_front_m"] <= s["runout_m"], name
-    # The transfers' loss at the walls is a positive part of the transfers' (energies.csv).
-    walls = float(r["Etransfer_walls_over_released"])
-    transfers = float(r["Etransfer_over_released"])
-    assert 0 < walls < transfers, (name, walls, transfers)
-    front[(r["base"], float(r["h"]))] = s["runout_front_m"]
-for h in (0.11, 0.055):
-    assert front[("friction", h)] > front[("fixed", h)], (h, front)
-print("fronts:", front)
-PY
-if "$src/scripts/grid_convergence_study" --out "$work/bad" --bases fixed,rough >"$work/bad.log" 2>&1; then
-  fail "an unknown base was accepted"
-fi
-grep -q "unknown base 'rough'" "$work/bad.log" || { cat "$work/bad.log" >&2; fail "no message"; }
-[[ ! -e $work/bad/runs/fixed_ppc2_h0.11 ]] || fail "ran something with a bad base"
+grep -q "no complete column run (summary.json with a runout) under '$work/empty'" \
+  "$work/fit_bad.log" || { cat "$work/fit_bad.log" >&2; fail "no message"; }
 echo "grid_convergence_study smoke: ok"

@@ -36,7 +36,7 @@ a, b, r2 = linear_fit([0, 1, 2, 3], [0, 1, 0, 1])  # least squares: 0.2 + 0.2 x,
 assert abs(a - 0.2) < 1e-12 and abs(b - 0.2) < 1e-12 and abs(r2 - 0.2) < 1e-12, (a, b, r2)
 PY
 # scripts/runout_vs_dissipation on two made-up folders of runs whose slices on the fixed base
-# lie on runout = 4 - 8 N and 99 % mass = 3 - 5 N (N = 1 - W_int_share); the second folder
+# lie on runout = 4 - 8 N and 99 % mass = 3 - 5 N (N = E_err_share); the second folder
 # repeats one run of the first (counted once) and holds a 3D run (a group of its own), the
 # friction base has too few runs for a fit, and a run that did not finish is left out.
 PYTHONPATH="$src/scripts/lib" /usr/bin/python3 - "$work/fit" <<'PY' || fail "made-up runs"
@@ -54,7 +54,8 @@ for study, rows in (("a", [("fixed", 1, 0.05, "complete"), ("fixed", 1, 0.1, "co
         yaml.safe_dump({"grid": {"cell_size": 0.1, "extent": [4.4, 0.1 * ny, 1.5]},
                         "walls": {"z_min": base}}, open(scene, "w"))
         json.dump({"status": status, "config_file": scene, "model": "drucker_prager",
-                   "aspect_ratio": 2.4, "energy_budget": {"W_int_share": 1 - N},
+                   "aspect_ratio": 2.4,
+                   "energy_budget": {"E_err_share": N, "W_int_share": 0.9 - N},
                    "runout_m": 4 - 8 * N, "runout_mass99_m": 3 - 5 * N},
                   open(os.path.join(run, "summary.json"), "w"))
 PY

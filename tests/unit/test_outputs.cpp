@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <regex>
@@ -393,6 +394,30 @@ TEST(RunDirectory, RefusesAFinishedRunUnlessForced) {
   EXPECT_NO_THROW(create_run_directory(run, true));
   EXPECT_FALSE(fs::exists(run + "/summary.json"));  // the old run's outputs are gone
   EXPECT_TRUE(fs::exists(run + "/dem_port.txt"));   // the launcher's file is kept
+}
+
+// A resumed run's energies.csv written before the log had its last columns (W_transfer_walls
+// came on 2026-11-26): the rows kept up to the checkpoint get "nan" in the new columns, the
+// rows after it are dropped, and a log with the current header is cut as before.
+TEST(RunDirectory, ResumedLogWithFewerColumnsIsPaddedWithNan) {
+  TempDir d("log_pad", TempDir::kCreate);
+  const std::string path = d.str() + "/energies.csv";
+  auto write = [&](const std::string& text) { std::ofstream(path) << text; };
+  auto read = [&] {
+    std::ifstream in(path);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  write("time,step,E\n0.0,0,1.5\n0.1,1,1.4\n0.2,2,1.3\n");
+  EXPECT_EQ(keep_rows_up_to_step(path, "time,step,E,W,V", 1, 1), 2u);
+  EXPECT_EQ(read(), "time,step,E,W,V\n0.0,0,1.5,nan,nan\n0.1,1,1.4,nan,nan\n");
+  write("time,step,E\n0.0,0,1.5\n0.1,1,1.4\n0.2,2,1.3\n");
+  EXPECT_EQ(keep_rows_up_to_step(path, "time,step,E", 1, 1), 2u);
+  EXPECT_EQ(read(), "time,step,E\n0.0,0,1.5\n0.1,1,1.4\n");
+  // A header that is not a prefix (a column renamed, or E a prefix of a longer name) is not
+  // padded.
+  write("time,step,E\n0.0,0,1.5\n");
+  EXPECT_EQ(keep_rows_up_to_step(path, "time,step,Ek", 1, 1), 1u);
+  EXPECT_EQ(read(), "time,step,Ek\n0.0,0,1.5\n");
 }
 
 TEST(RunOutputs, AShortRunWritesEveryOutputConsistently) {

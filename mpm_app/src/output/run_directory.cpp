@@ -1,5 +1,6 @@
 #include "output/run_directory.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -92,6 +93,14 @@ std::size_t keep_rows_up_to_step(const std::string& path, const std::string& hea
     std::ifstream in(path);
     std::string line;
     std::getline(in, line);  // header
+    // A log written by a version with fewer columns (`header` adds columns at its end): the
+    // kept rows get "nan" in the columns they do not have, so no value sits under the wrong
+    // name.
+    std::string pad;
+    if (line != header && header.compare(0, line.size() + 1, line + ",") == 0) {
+      const auto commas = [](const std::string& s) { return std::count(s.begin(), s.end(), ','); };
+      for (auto n = commas(header) - commas(line); n > 0; --n) pad += ",nan";
+    }
     while (std::getline(in, line)) {
       std::size_t start = 0;
       for (int c = 0; c < step_column && start != std::string::npos; ++c) {
@@ -100,7 +109,7 @@ std::size_t keep_rows_up_to_step(const std::string& path, const std::string& hea
       }
       if (start == std::string::npos) break;
       if (std::atoll(line.c_str() + start) > last_step) break;
-      kept += line + "\n";
+      kept += line + pad + "\n";
       ++rows;
     }
   }

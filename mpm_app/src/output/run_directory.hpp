@@ -36,7 +36,9 @@ void write_file_atomic(const std::string& path, const std::string& content);
 
 // A resumed run's CSV log: rewrites `path` (atomically) with `header` and the rows whose
 // integer in column `step_column` is <= last_step, stopping at the first later row (rows
-// the interrupted run wrote after its checkpoint). Returns the rows kept.
+// the interrupted run wrote after its checkpoint). Returns the rows kept. If the file's header
+// is `header` less some columns at its end (a log written before those columns existed), the
+// kept rows get "nan" in them.
 std::size_t keep_rows_up_to_step(const std::string& path, const std::string& header,
                                  std::int64_t last_step, int step_column);
 // A step-indexed CSV log opened for appending: a new file holding `header` (last_step < 0),

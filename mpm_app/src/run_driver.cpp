@@ -78,7 +78,11 @@ class Run {
   bool set_up() {
     RunSummary& sum = s();
     sum.scene = scene_.name;
-    sum.config_file = scene_.source_file;
+    // Absolute, so that tools reading summary.json find the scene from any directory.
+    sum.config_file =
+        scene_.source_file.empty()
+            ? std::string()
+            : std::filesystem::absolute(scene_.source_file).lexically_normal().string();
     sum.model = model_name(scene_.constitutive.model);
     sum.program_version = MPMDEM_VERSION;
     sum.end_time_s = scene_.solver.end_time;

@@ -423,7 +423,8 @@ TEST(RunDirectory, ResumedLogWithFewerColumnsIsPaddedWithNan) {
 TEST(RunOutputs, AShortRunWritesEveryOutputConsistently) {
   TempDir dir("run", TempDir::kCreate);
   const std::string run = (dir.path() / "column").string();
-  const Scene scene = short_column();
+  Scene scene = short_column();
+  scene.source_file = "some/where/../scene.yaml";  // as given on the command line
   std::ostringstream log;
   const RunResult r = run_scene(scene, quiet_options(run, log));
   ASSERT_EQ(r.exit_code, 0) << log.str();
@@ -433,6 +434,9 @@ TEST(RunOutputs, AShortRunWritesEveryOutputConsistently) {
 
   const std::string summary = read_file(run + "/summary.json");
   EXPECT_NE(summary.find("\"status\": \"complete\""), std::string::npos);
+  // The scene's path is made absolute, so tools find it from any directory.
+  const std::string config = (fs::current_path() / "some/scene.yaml").string();
+  EXPECT_NE(summary.find("\"config_file\": \"" + config + "\""), std::string::npos) << summary;
   EXPECT_NE(summary.find("\"n_material_points\": " + std::to_string(r.summary.n_material_points)),
             std::string::npos);
 

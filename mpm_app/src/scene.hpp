@@ -122,6 +122,14 @@ struct ConstitutiveParams {
   // J_c: a point whose volume exceeds J_c times its initial volume is disconnected (no
   // stress, no stiffness) until compacted below it again; 0: never.
   double disconnection_volume_ratio = 0.0;
+  // mu(I) (constitutive.drucker_prager.mu_i; Jop, Forterre & Pouliquen 2006): the cone's slope
+  // grows from that of friction_angle_deg to that of mu_i_friction_angle_2_deg with the
+  // inertial number I = gamma_dot_p d / sqrt(p / rho_s) of the plastic shear rate,
+  // eta(I) = eta_s + (eta_2 - eta_s) I / (I_0 + I). mu_i_friction_angle_2_deg = 0: off.
+  double mu_i_friction_angle_2_deg = 0.0;
+  double mu_i_inertial_number_0 = 0.279;
+  double mu_i_grain_diameter = 0.0;  // d [m]
+  double mu_i_grain_density = 0.0;   // rho_s [kg/m3]
 };
 
 // The shared section both programs read (hashed in the handshake).

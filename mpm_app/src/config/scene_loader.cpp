@@ -268,6 +268,21 @@ ConstitutiveParams load_constitutive(const Config& cfg) {
     c.matching = cfg.string("constitutive.drucker_prager.matching") == "plane_strain"
                      ? ConeMatching::kPlaneStrain
                      : ConeMatching::kCompression;
+    if (cfg.has("constitutive.drucker_prager.mu_i")) {
+      c.mu_i_friction_angle_2_deg =
+          cfg.number("constitutive.drucker_prager.mu_i.friction_angle_2_deg");
+      c.mu_i_inertial_number_0 = cfg.number("constitutive.drucker_prager.mu_i.inertial_number_0");
+      c.mu_i_grain_diameter = cfg.number("constitutive.drucker_prager.mu_i.grain_diameter");
+      c.mu_i_grain_density = cfg.number("constitutive.drucker_prager.mu_i.grain_density");
+      if (!(c.mu_i_friction_angle_2_deg > c.friction_angle_deg)) {
+        cfg.fail("constitutive.drucker_prager.mu_i.friction_angle_2_deg",
+                 config::format_number(c.mu_i_friction_angle_2_deg) +
+                     " is not above friction_angle_deg " +
+                     config::format_number(c.friction_angle_deg) +
+                     "; mu(I) needs the limit angle above the angle at rest (or drop the "
+                     "mu_i section for a rate-independent law)");
+      }
+    }
     if (c.dilation_angle_deg > c.friction_angle_deg) {
       cfg.fail("constitutive.drucker_prager.dilation_angle_deg",
                config::format_number(c.dilation_angle_deg) + " is larger than friction_angle_deg " +

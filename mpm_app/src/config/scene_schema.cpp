@@ -250,6 +250,31 @@ void add_constitutive_keys(config::Schema& s) {
             "0: never (docs/transfers.md, \"The disconnected state\")")
             .def("0")
             .ge(0));
+  s.add(key("constitutive.drucker_prager.mu_i", Type::kMap, "",
+            "optional: the mu(I) rheology (Jop, Forterre & Pouliquen 2006). The cone's slope "
+            "grows from that of friction_angle_deg to that of friction_angle_2_deg with the "
+            "inertial number I = gamma_dot_p d / sqrt(p / rho_s) of the plastic shear rate: "
+            "eta(I) = eta_s + (eta_2 - eta_s) I / (I_0 + I). Absent: rate independent "
+            "(docs/configuration.md)"));
+  s.add(key("constitutive.drucker_prager.mu_i.friction_angle_2_deg", Type::kDouble, "deg",
+            "friction angle phi_2 of the limit I >> I_0, above friction_angle_deg (with "
+            "plane_strain matching and no dilation, mu = sqrt(J2)/p = sin(phi))")
+            .req()
+            .gt(0)
+            .lt(90));
+  s.add(key("constitutive.drucker_prager.mu_i.inertial_number_0", Type::kDouble, "-",
+            "I_0, the inertial number at which the slope is halfway from eta_s to eta_2 "
+            "(0.279 for the glass beads of Jop et al. 2006)")
+            .def("0.279")
+            .gt(0));
+  s.add(key("constitutive.drucker_prager.mu_i.grain_diameter", Type::kDouble, "m",
+            "grain diameter d in the inertial number")
+            .req()
+            .gt(0));
+  s.add(key("constitutive.drucker_prager.mu_i.grain_density", Type::kDouble, "kg/m3",
+            "density of the grains' solid rho_s in the inertial number (not the bulk density)")
+            .req()
+            .gt(0));
 }
 
 void add_output_keys(config::Schema& s) {

@@ -19,6 +19,12 @@ double compression_slope(double sin_a) {
   return 6.0 * sin_a / (3.0 - sin_a);
 }
 
+// The cone's slope eta for friction angle phi under the matching (file comment of the header).
+double cone_slope(ConeMatching matching, double sin_phi, double sin_psi) {
+  if (matching == ConeMatching::kCompression) return compression_slope(sin_phi);
+  return 3.0 * sin_phi * std::sqrt(3.0 + sin_psi * sin_psi) / (3.0 + sin_phi * sin_psi);
+}
+
 }  // namespace
 
 DruckerPragerLaw::DruckerPragerLaw(const ConstitutiveParams& params)
@@ -40,16 +46,41 @@ DruckerPragerLaw::DruckerPragerLaw(const ConstitutiveParams& params)
   const double sin_phi = std::sin(phi_deg * kPi / 180.0);
   const double sin_psi = std::sin(psi_deg * kPi / 180.0);
   const double tan_phi = std::tan(phi_deg * kPi / 180.0);
-  if (params.matching == ConeMatching::kCompression) {
-    eta_ = compression_slope(sin_phi);
-    eta_g_ = compression_slope(sin_psi);
-  } else {
-    const double root = std::sqrt(3.0 + sin_psi * sin_psi);
-    eta_ = 3.0 * sin_phi * root / (3.0 + sin_phi * sin_psi);
-    eta_g_ = 3.0 * sin_psi / root;
-  }
+  eta_ = cone_slope(params.matching, sin_phi, sin_psi);
+  eta_g_ = params.matching == ConeMatching::kCompression
+               ? compression_slope(sin_psi)
+               : 3.0 * sin_psi / std::sqrt(3.0 + sin_psi * sin_psi);
   xi_ = eta_ / tan_phi;
   p_apex_ = -c_ / tan_phi;
+  const double phi_2_deg = params.mu_i_friction_angle_2_deg;
+  if (phi_2_deg != 0.0) {
+    if (!(phi_2_deg > phi_deg && phi_2_deg < 90.0) || !(params.mu_i_inertial_number_0 > 0.0) ||
+        !(params.mu_i_grain_diameter > 0.0) || !(params.mu_i_grain_density > 0.0)) {
+      throw std::invalid_argument(
+          "drucker_prager mu(I) needs friction_angle_deg < friction_angle_2_deg < 90, "
+          "inertial_number_0 > 0, grain_diameter > 0 and grain_density > 0, got phi=" +
+          std::to_string(phi_deg) + ", phi_2=" + std::to_string(phi_2_deg) +
+          ", I_0=" + std::to_string(params.mu_i_inertial_number_0) +
+          ", d=" + std::to_string(params.mu_i_grain_diameter) +
+          ", rho_s=" + std::to_string(params.mu_i_grain_density));
+    }
+    mu_i_ = true;
+    eta_2_ = cone_slope(params.matching, std::sin(phi_2_deg * kPi / 180.0), sin_psi);
+    i_0_ = params.mu_i_inertial_number_0;
+    d_ = params.mu_i_grain_diameter;
+    rho_s_ = params.mu_i_grain_density;
+  }
+}
+
+double DruckerPragerLaw::slope(double inertial_number) const {
+  if (!mu_i_ || !(inertial_number > 0.0)) return eta_;
+  if (std::isinf(inertial_number)) return eta_2_;
+  return eta_ + (eta_2_ - eta_) * inertial_number / (i_0_ + inertial_number);
+}
+
+double DruckerPragerLaw::inertial_number(double dlambda, double p, double dt) const {
+  if (!(p > 0.0)) return std::numeric_limits<double>::infinity();
+  return std::sqrt(3.0) * dlambda / dt * d_ / std::sqrt(p / rho_s_);
 }
 
 double DruckerPragerLaw::yield_function(const Mat3& sigma) const {
@@ -59,7 +90,7 @@ double DruckerPragerLaw::yield_function(const Mat3& sigma) const {
   return q - eta_ * p - xi_ * c_;
 }
 
-Mat3 DruckerPragerLaw::return_map(const Mat3& sigma_trial) const {
+Mat3 DruckerPragerLaw::return_map(const Mat3& sigma_trial, double dt) const {
   const double p_tr = -sigma_trial.trace() / 3.0;
   const Mat3 s_tr = sigma_trial + p_tr * Mat3::Identity();
   const double q_tr = std::sqrt(1.5 * s_tr.squaredNorm());
@@ -67,16 +98,53 @@ Mat3 DruckerPragerLaw::return_map(const Mat3& sigma_trial) const {
   if (f_tr <= 0.0) return sigma_trial;
   const double dlambda = f_tr / (3.0 * G_ + eta_ * eta_g_ * K_);
   const double q = q_tr - 3.0 * G_ * dlambda;
-  if (q > 0.0) {
-    // Cone. p from the consistency condition rather than p_tr + K eta_g dlambda, which is the
-    // same number up to round-off, so that f = 0 holds to round-off also for small q.
-    const double p = (q - xi_ * c_) / eta_;
-    return (q / q_tr) * s_tr - p * Mat3::Identity();
+  if (!mu_i_ || std::isinf(dt)) {
+    if (q > 0.0) {
+      // Cone. p from the consistency condition rather than p_tr + K eta_g dlambda, which is
+      // the same number up to round-off, so that f = 0 holds to round-off also for small q.
+      const double p = (q - xi_ * c_) / eta_;
+      return (q / q_tr) * s_tr - p * Mat3::Identity();
+    }
+    return -p_apex_ * Mat3::Identity();
   }
-  return -p_apex_ * Mat3::Identity();
+  // mu(I): g(dl) = q(dl) - eta(I(dl)) (p(dl) - p_apex) falls from g(0) = f_tr > 0; the root
+  // lies below the rate-independent dlambda (g <= 0 there), or below q = 0 if that one is at
+  // the apex. No root with q > 0: apex.
+  const auto p_of = [&](double dl) { return p_tr + K_ * eta_g_ * dl; };
+  const auto g = [&](double dl) {
+    const double p = p_of(dl);
+    return q_tr - 3.0 * G_ * dl - slope(inertial_number(dl, p, dt)) * (p - p_apex_);
+  };
+  double lo = 0.0, g_lo = f_tr;
+  double hi = q > 0.0 ? dlambda : q_tr / (3.0 * G_);
+  double g_hi = g(hi);
+  if (g_hi > 0.0) return -p_apex_ * Mat3::Identity();
+  // Illinois variant of regula falsi: keeps the bracket, converges superlinearly.
+  const double tol = 1e-13 * q_tr;
+  int side = 0;
+  double dl = hi;
+  for (int it = 0; it < 200 && hi - lo > 1e-15 * hi; ++it) {
+    dl = (lo * g_hi - hi * g_lo) / (g_hi - g_lo);
+    const double g_dl = g(dl);
+    if (std::abs(g_dl) <= tol) break;
+    if (g_dl > 0.0) {
+      lo = dl;
+      g_lo = g_dl;
+      if (side == 1) g_hi *= 0.5;
+      side = 1;
+    } else {
+      hi = dl;
+      g_hi = g_dl;
+      if (side == -1) g_lo *= 0.5;
+      side = -1;
+    }
+  }
+  const double q_rd = q_tr - 3.0 * G_ * dl;
+  if (!(q_rd > 0.0)) return -p_apex_ * Mat3::Identity();
+  return (q_rd / q_tr) * s_tr - p_of(dl) * Mat3::Identity();
 }
 
-Mat3 DruckerPragerLaw::update(const Mat3& sigma, const Mat3& dF) const {
+Mat3 DruckerPragerLaw::update(const Mat3& sigma, const Mat3& dF, double dt) const {
   // The kinematics of elastic::ElasticLaw::update (polar decomposition and Hencky increment).
   const Mat3 H = dF - Mat3::Identity();
   const Mat3 E_gl = 0.5 * (H + H.transpose() + H.transpose() * H);
@@ -88,7 +156,7 @@ Mat3 DruckerPragerLaw::update(const Mat3& sigma, const Mat3& dF) const {
   }
   const Mat3 dR = dF * dU_inv;
   const Mat3 trial = sigma + (lambda_ * d_eps.trace() * Mat3::Identity() + 2.0 * G_ * d_eps);
-  const Mat3 s = dR * return_map(trial) * dR.transpose();
+  const Mat3 s = dR * return_map(trial, dt) * dR.transpose();
   return 0.5 * (s + s.transpose());
 }
 
@@ -141,7 +209,7 @@ class DruckerPragerProvider final : public ConstitutiveProvider {
 
   // sigma_p <- DruckerPragerLaw::update(sigma_p, dF_p) for every point (independent points:
   // parallel like linear_elastic).
-  void update(const std::vector<Mat3>& dF, double /*dt*/, std::int64_t /*step*/, double /*time*/,
+  void update(const std::vector<Mat3>& dF, double dt, std::int64_t /*step*/, double /*time*/,
               std::vector<PointResponse>& out) override {
     if (dF.size() != sigma_.size()) {
       throw std::logic_error("drucker_prager: update with " + std::to_string(dF.size()) +
@@ -161,7 +229,7 @@ class DruckerPragerProvider final : public ConstitutiveProvider {
           continue;
         }
       }
-      sigma_[i] = law_.update(sigma_[i], dF[i]);
+      sigma_[i] = law_.update(sigma_[i], dF[i], dt);
       fill(i, out[i]);
     }
   }

@@ -41,9 +41,24 @@
 //   apex:  otherwise sigma = -p_apex I with p_apex = -c cot(phi) (0 for c = 0).
 // The result satisfies f = 0 to round-off. Below yield the stress equals linear_elastic's
 // (same kinematics and moduli; bit-identical in the GCC Release build; tested to 1e-12).
+//
+// mu(I) (optional, `mu_i`; Jop, Forterre & Pouliquen 2006, in the elasto-plastic form of
+// Dunatunga & Kamrin 2015): the cone's slope depends on the inertial number of the plastic
+// shear rate,
+//   eta(I) = eta_s + (eta_2 - eta_s) I / (I_0 + I),   I = gamma_dot_p d / sqrt(p / rho_s),
+// eta_s and eta_2 the slopes the matching gives for phi and phi_2 (for plane_strain and
+// psi = 0, sqrt(J2) / p = sin(phi): the mu of Jop et al. is sin(phi) here), and
+// gamma_dot_p = sqrt(2 de_p : de_p) / dt = sqrt(3) dlambda / dt the plastic shear rate
+// (the engineering shear rate gamma_dot of a simple shear that is all plastic). The apex
+// stays at -c cot(phi): f = q - eta(I) (p - p_apex). The return solves the scalar equation
+//   q_trial - 3 G dlambda = eta(I(dlambda, p)) (p_trial + K eta_g dlambda - p_apex)
+// for dlambda, bracketed between 0 (f_trial > 0) and the rate-independent dlambda (where
+// the right side is the larger, eta >= eta_s), by the Illinois method to round-off. As
+// dt -> infinity at a given strain increment, I -> 0 and the rate-independent law returns.
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 #include <memory>
 
 #include "constitutive/provider.hpp"
@@ -54,7 +69,8 @@ namespace mpmdem::mpm {
 class DruckerPragerLaw {
  public:
   // Throws std::invalid_argument unless E > 0, -1 < nu < 0.5, 0 < phi < 90 deg,
-  // 0 <= psi <= phi and c >= 0.
+  // 0 <= psi <= phi and c >= 0, and with mu(I) unless phi < phi_2 < 90 deg, I_0 > 0, d > 0
+  // and rho_s > 0.
   explicit DruckerPragerLaw(const ConstitutiveParams& params);
 
   double bulk_modulus() const { return K_; }
@@ -69,10 +85,19 @@ class DruckerPragerLaw {
 
   // f(sigma) = q - eta p - xi c [Pa]; <= 0 on or inside the cone.
   double yield_function(const Mat3& sigma) const;
-  // Closed-form return of a trial stress onto the cone or its apex (identity if inside).
-  Mat3 return_map(const Mat3& sigma_trial) const;
-  // Objective update over one increment dF (see the file comment).
-  Mat3 update(const Mat3& sigma, const Mat3& dF) const;
+  // True when mu(I) is on (ConstitutiveParams::mu_i_friction_angle_2_deg > 0).
+  bool rate_dependent() const { return mu_i_; }
+  // eta(I), the cone's slope at inertial number I (eta_s without mu(I)).
+  double slope(double inertial_number) const;
+  // I = sqrt(3) dlambda / dt * d / sqrt(p / rho_s); infinite for p <= 0.
+  double inertial_number(double dlambda, double p, double dt) const;
+  // Return of a trial stress onto the cone or its apex (identity if inside) for a step of
+  // dt: closed form without mu(I) or for dt = infinity, else the scalar root above.
+  Mat3 return_map(const Mat3& sigma_trial,
+                  double dt = std::numeric_limits<double>::infinity()) const;
+  // Objective update over one increment dF taken in dt (see the file comment).
+  Mat3 update(const Mat3& sigma, const Mat3& dF,
+              double dt = std::numeric_limits<double>::infinity()) const;
   // Elastic strain energy density 1/2 sigma : C^-1 : sigma [J/m^3] (for perfect plasticity
   // the elastic strain is C^-1 : sigma).
   double strain_energy_density(const Mat3& sigma) const;
@@ -80,11 +105,14 @@ class DruckerPragerLaw {
  private:
   double E_, nu_, K_, G_, lambda_;
   double eta_, eta_g_, xi_, c_, p_apex_;
+  bool mu_i_ = false;
+  double eta_2_ = 0.0, i_0_ = 0.0, d_ = 0.0, rho_s_ = 0.0;
 };
 
 // Reads youngs_modulus, poisson_ratio, friction_angle_deg, dilation_angle_deg, cohesion,
-// matching and disconnection_volume_ratio (the disconnected state, drucker_prager.cpp) of
-// params. Throws std::invalid_argument for a ratio that is neither 0 nor > 1.
+// matching, the mu_i_* parameters and disconnection_volume_ratio (the disconnected state,
+// drucker_prager.cpp) of params. Throws std::invalid_argument for a ratio that is neither 0 nor
+// > 1.
 std::unique_ptr<ConstitutiveProvider> make_drucker_prager(const ConstitutiveParams& params);
 
 }  // namespace mpmdem::mpm

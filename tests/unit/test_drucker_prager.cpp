@@ -22,6 +22,7 @@
 #include "mpmdem/protocol.hpp"
 #include "particle_init.hpp"
 #include "solver.hpp"
+#include "stress_invariants.hpp"
 
 using namespace mpmdem::mpm;
 
@@ -42,15 +43,9 @@ ConstitutiveParams dp_params(double phi_deg, double psi_deg = 0.0, double c = 0.
   return p;
 }
 
-double pressure(const Mat3& s) {
-  return -s.trace() / 3.0;
-}
-Mat3 deviator(const Mat3& s) {
-  return s + pressure(s) * Mat3::Identity();
-}
-double von_mises(const Mat3& s) {
-  return std::sqrt(1.5 * deviator(s).squaredNorm());
-}
+using stress_test::deviator;
+using stress_test::pressure;
+using stress_test::von_mises;
 
 // A traceless, non-axisymmetric direction with q = 1.
 Mat3 unit_deviator() {

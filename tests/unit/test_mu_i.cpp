@@ -13,6 +13,7 @@
 
 #include "config_test_support.hpp"
 #include "constitutive/drucker_prager.hpp"
+#include "stress_invariants.hpp"
 
 using namespace mpmdem::mpm;
 
@@ -36,13 +37,8 @@ ConstitutiveParams mu_i_params(double phi_deg, double phi_2_deg, double c = 0.0)
   return p;
 }
 
-double pressure(const Mat3& s) {
-  return -s.trace() / 3.0;
-}
-double von_mises(const Mat3& s) {
-  const Mat3 dev = s + pressure(s) * Mat3::Identity();
-  return std::sqrt(1.5 * dev.squaredNorm());
-}
+using stress_test::pressure;
+using stress_test::von_mises;
 double sin_deg(double a) {
   return std::sin(a * kPi / 180.0);
 }

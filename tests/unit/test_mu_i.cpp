@@ -187,23 +187,15 @@ TEST(MuI, ProviderUsesTheTimeStep) {
 }
 
 TEST(MuIConfig, KeysDefaultsAndChecks) {
-  const std::string base =
-      "config_version: 1\n"
-      "grid:\n"
-      "  extent: [1, 1, 1]\n"
-      "  cell_size: 0.1\n"
-      "regions:\n"
-      "  - min: [0, 0, 0]\n"
-      "    max: [0.5, 0.5, 0.5]\n"
-      "    density: 1000\n"
-      "solver:\n"
-      "  end_time: 0.1\n"
-      "constitutive:\n"
-      "  model: drucker_prager\n"
-      "  drucker_prager:\n"
-      "    youngs_modulus: 2e6\n"
-      "    poisson_ratio: 0.3\n"
-      "    friction_angle_deg: 20\n";
+  const std::string base = config_test::replaced(config_test::kMinimal,
+                                                 "  linear_elastic:\n"
+                                                 "    youngs_modulus: 1e6\n"
+                                                 "    poisson_ratio: 0.25\n",
+                                                 "  model: drucker_prager\n"
+                                                 "  drucker_prager:\n"
+                                                 "    youngs_modulus: 2e6\n"
+                                                 "    poisson_ratio: 0.3\n"
+                                                 "    friction_angle_deg: 20\n");
   const Scene none = load_scene(config_test::write_file("mu_i_none.yaml", base));
   EXPECT_EQ(none.constitutive.mu_i_friction_angle_2_deg, 0.0);
   const Scene given = load_scene(

@@ -37,8 +37,9 @@ assert abs(a - 0.2) < 1e-12 and abs(b - 0.2) < 1e-12 and abs(r2 - 0.2) < 1e-12, 
 PY
 # scripts/runout_vs_dissipation on two made-up folders of runs whose slices on the fixed base
 # lie on runout = 4 - 8 N and 99 % mass = 3 - 5 N (N = E_err_share); the second folder
-# repeats one run of the first (counted once) and holds a 3D run (a group of its own), the
-# friction base has too few runs for a fit, and a run that did not finish is left out.
+# repeats one run of the first (counted once) and holds a 3D run (a group of its own) and a
+# run of the same slice with mu(I) (a model of its own), the friction base has too few runs
+# for a fit, and a run that did not finish is left out.
 PYTHONPATH="$src/scripts/lib" /usr/bin/python3 - "$work/fit" <<'PY' || fail "made-up runs"
 import json, os, sys
 import yaml
@@ -46,13 +47,17 @@ root = sys.argv[1]
 for study, rows in (("a", [("fixed", 1, 0.05, "complete"), ("fixed", 1, 0.1, "complete"),
                            ("friction", 1, 0.2, "complete"), ("fixed", 1, 0.2, "truncated")]),
                     ("b", [("fixed", 1, 0.1, "complete"), ("fixed", 1, 0.3, "complete"),
-                           ("fixed", 4, 0.1, "complete")])):
+                           ("fixed", 4, 0.1, "complete"), ("mu_i", 1, 0.15, "complete")])):
     for i, (base, ny, N, status) in enumerate(rows):
         run = os.path.join(root, study, "runs", f"r{i}")
         os.makedirs(run, exist_ok=True)
         scene = os.path.join(run, "scene.yaml")
-        yaml.safe_dump({"grid": {"cell_size": 0.1, "extent": [4.4, 0.1 * ny, 1.5]},
-                        "walls": {"z_min": base}}, open(scene, "w"))
+        cfg = {"grid": {"cell_size": 0.1, "extent": [4.4, 0.1 * ny, 1.5]},
+               "walls": {"z_min": base}}
+        if base == "mu_i":
+            cfg["walls"]["z_min"] = "fixed"
+            cfg["constitutive"] = {"drucker_prager": {"mu_i": {"friction_angle_2_deg": 37}}}
+        yaml.safe_dump(cfg, open(scene, "w"))
         json.dump({"status": status, "config_file": scene, "model": "drucker_prager",
                    "aspect_ratio": 2.4,
                    "energy_budget": {"E_err_share": N, "W_int_share": 0.9 - N},
@@ -66,7 +71,8 @@ grep -qF "$row | runout | 4.00 | -0.080 | 1.00 |" "$work/fit.md" &&
   grep -qF "$row | 99 % of the mass within | 3.00 | -0.050 | 1.00 |" "$work/fit.md" &&
   grep -qF "| drucker_prager | slice | friction | 2.4 | 1 | - | no fit: fewer than 3 runs |" "$work/fit.md" &&
   grep -qF "| drucker_prager | 3D | fixed | 2.4 | 1 | - | no fit" "$work/fit.md" &&
-  [[ $(grep -c "^| drucker_prager" "$work/fit.md") == 4 ]] ||
+  grep -qF "| drucker_prager + mu(I) | slice | fixed | 2.4 | 1 | - | no fit" "$work/fit.md" &&
+  [[ $(grep -c "^| drucker_prager" "$work/fit.md") == 5 ]] ||
   { cat "$work/fit.md" >&2; fail "runout_vs_dissipation's table"; }
 mkdir -p "$work/empty"
 if "$src/scripts/runout_vs_dissipation" "$work/empty" >"$work/fit_bad.log" 2>&1; then

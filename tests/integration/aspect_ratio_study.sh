@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # scripts/aspect_ratio_study on one tiny scene (a = 1 from configs/column_collapse_mc.yaml,
 # the shipped transfer): the generated column has H_i = L_i, the run is complete and ends by
-# its duration (the at-rest stop is removed), and the table, the CSV and the figure are
-# written; an unknown scheme exits non-zero naming it and runs nothing.
+# its duration (the at-rest stop is removed), and the table (naming the scene's transfer from
+# its solver keys), the CSV and the figure are written; the domain holds twice the law's
+# runout, or --domain-factor times it; an unknown scheme or a factor below 1 exits non-zero
+# naming it and runs nothing.
 # Env: MPMDEM_BIN (build dir), MPMDEM_SRC (source dir).
 set -uo pipefail
 src=${MPMDEM_SRC:-$(cd "$(dirname "$0")/../.." && pwd)}
@@ -27,8 +29,27 @@ s = json.load(open(w + "/runs/a1_shipped_cfl0.5/summary.json"))
 assert s["status"] == "complete" and s["stop"]["reason"] == "duration", s["stop"]
 assert abs(s["aspect_ratio"] - 1) < 1e-9, s["aspect_ratio"]
 assert abs(float(r["dL_over_Li"]) - (s["runout_m"] - s["initial_length_m"]) / s["initial_length_m"]) < 1e-9
-assert "| 1 | 0.55, 0.55 |" in open(w + "/table.md").read()
+table = open(w + "/table.md").read()
+assert "| 1 | 0.55, 0.55 |" in table
+# the scene's transfer is named from its solver keys (configs/column_collapse_mc.yaml)
+assert "the scene's: flip_velocity_scale 1.75" in table, table
+# the domain holds twice the law's runout by default: 0.55 (1 + 2 x 1.2) = 1.87 m
+import yaml
+assert abs(yaml.safe_load(open(w + "/runs/a1_shipped_cfl0.5.yaml"))["grid"]["extent"][0] - 1.87) < 1e-9
 PY
+# --domain-factor 3: 0.55 (1 + 3 x 1.2) = 2.53 m; a factor below 1 is refused
+"$src/scripts/aspect_ratio_study" --out "$work/f3" --aspect-ratios 1 --schemes shipped \
+  --cfl-check none --domain-factor 3 >"$work/f3.log" 2>&1 ||
+  { tail -n 30 "$work/f3.log" >&2; fail "study with --domain-factor 3 failed"; }
+/usr/bin/python3 -c "
+import sys, yaml
+x = yaml.safe_load(open(sys.argv[1]))['grid']['extent'][0]
+assert abs(x - 2.53) < 1e-9, x" "$work/f3/runs/a1_shipped_cfl0.5.yaml" || fail "--domain-factor 3"
+if "$src/scripts/aspect_ratio_study" --out "$work/f0" --domain-factor 0.5 >"$work/f0.log" 2>&1; then
+  fail "--domain-factor 0.5 was accepted"
+fi
+grep -q "domain-factor '0.5' is not a number >= 1" "$work/f0.log" || { cat "$work/f0.log" >&2; fail "no message"; }
+
 if "$src/scripts/aspect_ratio_study" --out "$work/bad" --schemes nope >"$work/bad.log" 2>&1; then
   fail "an unknown scheme was accepted"
 fi

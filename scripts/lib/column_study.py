@@ -57,6 +57,13 @@ def run_column(app, cfg, out, name, study):
     return s
 
 
+def has_mu_i(cfg):
+    """True when the scene `cfg` (a loaded YAML dict) gives its Drucker-Prager law the mu(I)
+    rheology (constitutive.drucker_prager.mu_i)."""
+    dp = (cfg.get("constitutive") or {}).get("drucker_prager") or {}
+    return bool(dp.get("mu_i"))
+
+
 def richardson(f, ratio=2.0, safety=1.25):
     """Richardson analysis of a figure on three grids refined by `ratio`, f = [coarse, medium,
     fine]. Returns a dict: kind "converging" with p (observed order), extrapolated and gci

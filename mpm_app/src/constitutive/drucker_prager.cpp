@@ -19,7 +19,8 @@ double compression_slope(double sin_a) {
   return 6.0 * sin_a / (3.0 - sin_a);
 }
 
-// The cone's slope eta for friction angle phi under the matching (file comment of the header).
+// The cone's slope eta for friction angle phi under the matching (file comment of the header);
+// with phi = psi it is the potential's slope eta_g.
 double cone_slope(ConeMatching matching, double sin_phi, double sin_psi) {
   if (matching == ConeMatching::kCompression) return compression_slope(sin_phi);
   return 3.0 * sin_phi * std::sqrt(3.0 + sin_psi * sin_psi) / (3.0 + sin_phi * sin_psi);
@@ -47,9 +48,7 @@ DruckerPragerLaw::DruckerPragerLaw(const ConstitutiveParams& params)
   const double sin_psi = std::sin(psi_deg * kPi / 180.0);
   const double tan_phi = std::tan(phi_deg * kPi / 180.0);
   eta_ = cone_slope(params.matching, sin_phi, sin_psi);
-  eta_g_ = params.matching == ConeMatching::kCompression
-               ? compression_slope(sin_psi)
-               : 3.0 * sin_psi / std::sqrt(3.0 + sin_psi * sin_psi);
+  eta_g_ = cone_slope(params.matching, sin_psi, sin_psi);
   xi_ = eta_ / tan_phi;
   p_apex_ = -c_ / tan_phi;
   const double phi_2_deg = params.mu_i_friction_angle_2_deg;
@@ -207,7 +206,7 @@ class DruckerPragerProvider final : public ConstitutiveProvider {
     J_ = state;
   }
 
-  // sigma_p <- DruckerPragerLaw::update(sigma_p, dF_p) for every point (independent points:
+  // sigma_p <- DruckerPragerLaw::update(sigma_p, dF_p, dt) for every point (independent points:
   // parallel like linear_elastic).
   void update(const std::vector<Mat3>& dF, double dt, std::int64_t /*step*/, double /*time*/,
               std::vector<PointResponse>& out) override {

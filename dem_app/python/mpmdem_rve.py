@@ -214,12 +214,21 @@ class RveSet:
                 faults.append(self._fault(k, gid, status, ""))
         return struct.pack("%dd" % len(out), *out), faults
 
-    def n_substeps(self, dF):
-        if self.p["ns_rule"] == "fixed":
+    def n_substeps(self, dF, dt=0.0):
+        """DEM substeps for one update: fixed; proportional to max|dF - I|; or rate, the
+        update's dt over the DEM step (the RVE strained at the MPM's rate). Clamped to
+        [ns_min, ns_max] as native_backend.cpp's n_substeps."""
+        rule = self.p["ns_rule"]
+        if rule == "fixed":
             return int(self.p["ns"])
-        g = max(abs(dF[3 * i + j] - (1.0 if i == j else 0.0)) for i in range(3) for j in range(3))
-        ns = int(math.ceil(self.p["ns_factor"] * g))
-        return max(int(self.p["ns_min"]), min(int(self.p["ns_max"]), ns))
+        if rule == "rate":
+            want = dt / self.y.O.dt
+        else:
+            g = max(abs(dF[3 * i + j] - (1.0 if i == j else 0.0))
+                    for i in range(3) for j in range(3))
+            want = self.p["ns_factor"] * g
+        ns = int(math.ceil(min(want, float(self.p["ns_max"]))))
+        return max(int(self.p["ns_min"]), ns)
 
     def _burst(self, dF, ns):
         """Apply dF over ns substeps with the velGrad lag corrected (see module doc)."""
@@ -248,12 +257,13 @@ class RveSet:
                 O.cell.velGrad = _mat(y, self._pending)
             step()
 
-    def step(self, dF_bytes, flags_bytes, step_no):
+    def step(self, dF_bytes, flags_bytes, step_no, dt_bytes=None):
         y = self.y
         O = y.O
         n = len(self.ids)
         dFs = struct.unpack("%dd" % (9 * n), dF_bytes)
         flags = struct.unpack("%dI" % n, flags_bytes)
+        dts = struct.unpack("%dd" % n, dt_bytes) if dt_bytes else [0.0] * n
         self.step_no = step_no
         out = []
         faults = []
@@ -271,7 +281,7 @@ class RveSet:
             ns = 0
             if not (flags[k] & 3):  # neither query-only nor skip (skip without a cached reply)
                 dF = dFs[9 * k : 9 * k + 9]
-                ns = self.n_substeps(dF)
+                ns = self.n_substeps(dF, dts[k])
                 self._pending = s["pending"]
                 self._burst(dF, ns)
                 s["pending"] = self._pending
@@ -347,6 +357,11 @@ class RveSet:
         """Spheres in local RVE k (grows when its cell is tiled)."""
         self.y.O.switchToScene(self.scenes[k])
         return len(self.y.O.bodies)
+
+    def dem_dt(self, k):
+        """DEM time step of local RVE k [s]."""
+        self.y.O.switchToScene(self.scenes[k])
+        return self.y.O.dt
 
     def trsf(self, k):
         """Cell transformation of local RVE k relative to its start: trsf * trsf0^-1."""

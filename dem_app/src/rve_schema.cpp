@@ -28,15 +28,16 @@ void add_rve_backend_keys(config::Schema& s, const RveBackendKeys& k) {
             .ge(2));
   s.add(key(p + "ns_rule", Type::kEnum, "",
             "DEM substeps per coupling step: fixed (" + p +
-                "ns) or proportional (clamp(ceil(ns_factor*max|dF-I|), ns_min, ns_max), as "
-                "YADE's FEMxDEM)")
+                "ns), proportional (clamp(ceil(ns_factor*max|dF-I|), ns_min, ns_max), as "
+                "YADE's FEMxDEM: a fixed strain per substep, so a rate-independent RVE) or rate "
+                "(clamp(ceil(dt/dt_dem), ns_min, ns_max): the RVE strained at the MPM's rate)")
             .def("proportional")
-            .one_of({"fixed", "proportional"}));
+            .one_of({"fixed", "proportional", "rate"}));
   s.add(key(p + "ns", Type::kInt, "-", "substeps for ns_rule fixed").def("10").ge(2));
   s.add(
       key(p + "ns_factor", Type::kDouble, "-", "substeps per unit of max|dF-I|").def("1e5").gt(0));
-  s.add(key(p + "ns_min", Type::kInt, "-", "fewest substeps (proportional rule)").def("2").ge(2));
-  s.add(key(p + "ns_max", Type::kInt, "-", "most substeps (proportional rule)").def("100").ge(2));
+  s.add(key(p + "ns_min", Type::kInt, "-", "fewest substeps (proportional and rate rules)").def("2").ge(2));
+  s.add(key(p + "ns_max", Type::kInt, "-", "most substeps (proportional and rate rules)").def("100").ge(2));
   s.add(key(p + "damping", Type::kDouble, "-", k.damping).def("0.2").ge(0).lt(1));
   s.add(key(p + "ke_threshold", Type::kDouble, "-",
             "an RVE explodes when its kinetic energy per volume exceeds this times its initial "

@@ -36,7 +36,7 @@ long resident_kb() {
 int main(int argc, char** argv) {
   std::string packing, df_file;
   mpmdem::dem::NativeParams p;
-  p.ns_fixed = true;
+  p.ns_rule = mpmdem::dem::NativeParams::NsRule::kFixed;
   long repeat = 1;
   long resident = 0;
   for (int i = 1; i + 1 < argc; i += 2) {

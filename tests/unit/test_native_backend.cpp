@@ -28,7 +28,7 @@ constexpr double kP0 = 1.0e4;  // consolidation pressure [Pa]
 dem::NativeParams params() {
   dem::NativeParams p;
   p.inline_spheres = 40;
-  p.ns_fixed = true;
+  p.ns_rule = dem::NativeParams::NsRule::kFixed;
   p.ns = 10;
   p.consolidation_tol = 0.02;
   p.consolidation_unbalanced = 0.05;
@@ -61,12 +61,13 @@ RowMajor3 random_dF(std::mt19937_64& rng) {
   return f;
 }
 
-void step(dem::NativeBackend& b, std::int64_t n, const std::vector<RowMajor3>& dF,
-          RveReply* reply) {
+void step(dem::NativeBackend& b, std::int64_t n, const std::vector<RowMajor3>& dF, RveReply* reply,
+          double dt = 0.0) {
   std::vector<RveRequest> req(dF.size());
   for (std::size_t k = 0; k < dF.size(); ++k) {
     std::memset(&req[k], 0, sizeof req[k]);
     Eigen::Map<RowMajor3>(req[k].dF) = dF[k];
+    req[k].dt = dt;
   }
   protocol::ControlHeader h{};
   h.step = n;
@@ -108,6 +109,50 @@ TEST(NativeBackend, ConsolidatesToRveInitStressAndCellFollowsTheIncrementsExactl
       EXPECT_LT((rel - product[k]).cwiseAbs().maxCoeff(), 1e-12) << "step " << n;
     }
   }
+}
+
+// ns_rule rate: an update of dt takes ceil(dt / dt_dem) substeps (within [ns_min, ns_max]),
+// so the RVE deforms at the MPM's rate: the velocity gradient left pending after the burst
+// (its mean rate) is (dF - I) / dt to within one DEM step. The proportional rule ignores dt:
+// the same increments over a 100x longer dt give the same bits.
+TEST(NativeBackend, RateRuleStrainsTheRveAtTheMpmRate) {
+  dem::NativeParams p = params();
+  p.ns_rule = dem::NativeParams::NsRule::kRate;
+  p.ns_min = 3;
+  p.ns_max = 400;
+  RveReply reply[1];
+  auto b = make(0, 1, kP0, reply, p);
+  ASSERT_EQ(reply[0].status, 0);
+  const double dt_dem = b->rve(0).state.dt;
+  RowMajor3 f = RowMajor3::Identity();
+  f(0, 2) = 2e-5;  // simple shear
+  struct Case {
+    double dt;
+    int ns;
+  };
+  for (const Case c : {Case{37.5 * dt_dem, 38}, Case{120.0 * dt_dem, 120}, Case{0.4 * dt_dem, 3},
+                       Case{1000.0 * dt_dem, 400}}) {
+    step(*b, 1, {f}, reply, c.dt);
+    EXPECT_EQ(reply[0].n_substeps, c.ns) << "dt / dt_dem = " << c.dt / dt_dem;
+    const double rate = b->rve(0).state.cell.pending_vel_grad()(0, 2);
+    EXPECT_NEAR(rate, 2e-5 / (c.ns * dt_dem), 1e-9 * rate);
+    if (c.ns > p.ns_min && c.ns < p.ns_max) {
+      EXPECT_NEAR(rate, 2e-5 / c.dt, 2e-5 / c.dt * (1.0 / c.ns));  // the MPM's rate
+    }
+  }
+
+  dem::NativeParams q = params();
+  q.ns_rule = dem::NativeParams::NsRule::kProportional;
+  q.ns_factor = 1.5e4;
+  RveReply a[1], c[1];
+  auto slow = make(0, 1, kP0, a, q);
+  auto fast = make(0, 1, kP0, c, q);
+  for (int n = 1; n <= 20; ++n) {
+    step(*slow, n, {f}, a, 100.0 * dt_dem);
+    step(*fast, n, {f}, c, 1.0 * dt_dem);
+    ASSERT_TRUE(same_bits(a[0], c[0])) << "step " << n;
+  }
+  EXPECT_EQ(a[0].n_substeps, 2);  // ceil(1.5e4 * 2e-5) = 1, raised to ns_min
 }
 
 // The velGrad lag at ns = 2 (docs/dem_backend.md): increments that alternate in sign,

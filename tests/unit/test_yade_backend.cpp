@@ -59,12 +59,14 @@ class YadeBackend : public ::testing::Test {
   static void TearDownTestSuite() { backend_.reset(); }
 
   // One step: RVE 0 gets dF0, RVE 1 gets dF1 (or a query when dF1 is null).
-  static void step(const Mat& dF0, const Mat* dF1, RveReply* reply, std::int64_t n = 1) {
+  static void step(const Mat& dF0, const Mat* dF1, RveReply* reply, std::int64_t n = 1,
+                   double dt = 0.0) {
     RveRequest req[2] = {};
     for (int i = 0; i < 9; ++i) {
       req[0].dF[i] = dF0[i];
       req[1].dF[i] = dF1 ? (*dF1)[i] : 0.0;
     }
+    req[0].dt = req[1].dt = dt;
     req[1].flags = dF1 ? 0u : protocol::kFlagQueryOnly;
     protocol::ControlHeader h{};
     h.step = n;
@@ -203,6 +205,54 @@ TEST_F(YadeBackend, CellTransformationEqualsProductOfIncrements) {
     if (s == 0) ratio0 = ratio;
     EXPECT_NEAR(ratio, ratio0, 1e-9 * ratio0) << "step " << s;
   }
+}
+
+// ns_rule rate (set on the resident RVE set, then put back): an update of dt takes
+// ceil(dt / O.dt) substeps within [ns_min, ns_max], as the native backend's rule; each RVE
+// its own O.dt.
+TEST_F(YadeBackend, RateRuleTakesTheUpdatesDtOverTheDemStep) {
+  PyObject* mod = PyImport_ImportModule("mpmdem_rve");
+  PyObject* sets = PyObject_GetAttrString(mod, "_sets");
+  PyObject* set = PyList_GetItem(sets, 0);  // borrowed
+  PyObject* p = PyObject_GetAttrString(set, "p");
+  double dt_dem[2];
+  for (int k = 0; k < 2; ++k) {
+    PyObject* v = PyObject_CallMethod(set, "dem_dt", "i", k);
+    dt_dem[k] = PyFloat_AsDouble(v);
+    Py_DECREF(v);
+    ASSERT_GT(dt_dem[k], 0.0);
+  }
+  PyObject* rate = PyUnicode_FromString("rate");
+  PyObject* fixed = PyUnicode_FromString("fixed");
+  PyDict_SetItemString(p, "ns_rule", rate);
+  Mat dF = kI;
+  dF[2] = 1e-5;
+  RveReply reply[2];
+  struct Case {
+    double dt_over_dem;
+    int ns;
+  };
+  for (const Case c : {Case{37.5, 38}, Case{0.4, 2}, Case{1000.0, 100}}) {  // ns_min 2, max 100
+    RveRequest req[2] = {};
+    for (int k = 0; k < 2; ++k) {
+      for (int i = 0; i < 9; ++i) req[k].dF[i] = dF[i];
+      req[k].dt = c.dt_over_dem * dt_dem[0];
+    }
+    protocol::ControlHeader h{};
+    h.step = 500;
+    backend_->step(h, req, reply);
+    EXPECT_EQ(reply[0].n_substeps, c.ns) << "dt / dt_dem = " << c.dt_over_dem;
+    const int ns1 = std::clamp(
+        static_cast<int>(std::ceil(std::min(c.dt_over_dem * dt_dem[0] / dt_dem[1], 100.0))), 2,
+        100);
+    EXPECT_EQ(reply[1].n_substeps, ns1);  // its own O.dt
+  }
+  PyDict_SetItemString(p, "ns_rule", fixed);
+  Py_DECREF(rate);
+  Py_DECREF(fixed);
+  Py_DECREF(p);
+  Py_DECREF(sets);
+  Py_DECREF(mod);
 }
 
 // A strong isochoric stretch (F_zz -> 0.45) thins the cell below 2.2 diameters: the packing

@@ -145,16 +145,19 @@ class YadeBackend final : public RveBackend {
             protocol::RveReply* reply) override {
     dF_.resize(9 * ctx_.n_rve);
     flags_.resize(ctx_.n_rve);
+    dt_.resize(ctx_.n_rve);
     for (std::size_t k = 0; k < ctx_.n_rve; ++k) {
       std::memcpy(&dF_[9 * k], req[k].dF, 9 * sizeof(double));
       flags_[k] = req[k].flags;
+      dt_[k] = req[k].dt;
     }
-    PyObject* r =
-        PyObject_CallMethod(set_, "step", "y#y#L", reinterpret_cast<const char*>(dF_.data()),
-                            static_cast<Py_ssize_t>(dF_.size() * sizeof(double)),
-                            reinterpret_cast<const char*>(flags_.data()),
-                            static_cast<Py_ssize_t>(flags_.size() * sizeof(std::uint32_t)),
-                            static_cast<long long>(header.step));
+    PyObject* r = PyObject_CallMethod(
+        set_, "step", "y#y#Ly#", reinterpret_cast<const char*>(dF_.data()),
+        static_cast<Py_ssize_t>(dF_.size() * sizeof(double)),
+        reinterpret_cast<const char*>(flags_.data()),
+        static_cast<Py_ssize_t>(flags_.size() * sizeof(std::uint32_t)),
+        static_cast<long long>(header.step), reinterpret_cast<const char*>(dt_.data()),
+        static_cast<Py_ssize_t>(dt_.size() * sizeof(double)));
     unpack(checked(r, "step"), reply);
   }
 
@@ -245,6 +248,7 @@ class YadeBackend final : public RveBackend {
   PyObject* set_ = nullptr;
   std::vector<double> dF_;
   std::vector<std::uint32_t> flags_;
+  std::vector<double> dt_;  // each update's dt (ns_rule rate)
   std::string fault_;
 };
 

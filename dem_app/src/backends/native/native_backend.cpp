@@ -133,13 +133,21 @@ void NativeBackend::initialise(const protocol::RveInit* init, protocol::RveReply
   std::cerr << std::endl;
 }
 
-int NativeBackend::n_substeps(const double* dF) const {
-  if (p_.ns_fixed) return p_.ns;
-  double g = 0;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) g = std::max(g, std::abs(dF[3 * i + j] - (i == j ? 1.0 : 0.0)));
-  const int ns = static_cast<int>(std::ceil(p_.ns_factor * g));
-  return std::max(p_.ns_min, std::min(p_.ns_max, ns));
+int NativeBackend::n_substeps(const protocol::RveRequest& req, double dem_dt) const {
+  if (p_.ns_rule == NativeParams::NsRule::kFixed) return p_.ns;
+  double want = 0;
+  if (p_.ns_rule == NativeParams::NsRule::kRate) {
+    // ns dt_dem = the update's dt (to within one DEM step): the RVE deforms at the MPM's rate
+    want = req.dt / dem_dt;
+  } else {
+    double g = 0;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        g = std::max(g, std::abs(req.dF[3 * i + j] - (i == j ? 1.0 : 0.0)));
+    want = p_.ns_factor * g;
+  }
+  const double ns = std::ceil(std::min(want, static_cast<double>(p_.ns_max)));
+  return std::max(p_.ns_min, static_cast<int>(ns));
 }
 
 void NativeBackend::burst(std::size_t k, const double* dF, int ns) {
@@ -237,7 +245,7 @@ void NativeBackend::step(const protocol::ControlHeader& header, const protocol::
       const auto t0 = Clock::now();
       int ns = 0;
       if (!(req[k].flags & (protocol::kFlagQueryOnly | protocol::kFlagSkip))) {
-        ns = n_substeps(req[k].dF);
+        ns = n_substeps(req[k], rves_[k].state.dt);
         burst(k, req[k].dF, ns);
         if (ctx_.outputs & protocol::kOutputUnbalancedForce) {  // only when replied
           rves_[k].unbalanced = native::unbalanced_force(rves_[k].state);
@@ -378,7 +386,10 @@ NativeParams native_params(const config::Config& cfg) {
   }
   p.seed = cfg.integer("coupling.native.seed");
   p.inline_spheres = static_cast<int>(cfg.integer("coupling.native.inline_spheres"));
-  p.ns_fixed = cfg.string("coupling.native.ns_rule") == "fixed";
+  const std::string rule = cfg.string("coupling.native.ns_rule");
+  p.ns_rule = rule == "fixed"  ? NativeParams::NsRule::kFixed
+              : rule == "rate" ? NativeParams::NsRule::kRate
+                               : NativeParams::NsRule::kProportional;
   p.ns = static_cast<int>(cfg.integer("coupling.native.ns"));
   p.ns_factor = cfg.number("coupling.native.ns_factor");
   p.ns_min = static_cast<int>(cfg.integer("coupling.native.ns_min"));

@@ -23,7 +23,9 @@ struct NativeParams {
   std::vector<std::string> packings;
   std::int64_t seed = 1;
   int inline_spheres = 60;
-  bool ns_fixed = false;
+  // DEM substeps per update: fixed (ns), proportional to the strain increment (ns_factor),
+  // or rate (the update's dt over the RVE's DEM step: the RVE strained at the MPM's rate)
+  enum class NsRule { kFixed, kProportional, kRate } ns_rule = NsRule::kProportional;
   int ns = 10, ns_min = 2, ns_max = 100;
   double ns_factor = 1e5;
   double damping = 0.2;
@@ -55,7 +57,7 @@ class NativeBackend final : public RveBackend {
   native::RveRecord& rve(std::size_t k) { return rves_[k]; }
   const native::NeighbourList& neighbour_list(std::size_t k) const { return lists_[k]; }
   // Substeps the rule gives for dF (row-major).
-  int n_substeps(const double* dF) const;
+  int n_substeps(const protocol::RveRequest& req, double dem_dt) const;
   // Apply dF over ns substeps with the velGrad lag corrected (mpmdem_rve.RveSet._burst).
   void burst(std::size_t k, const double* dF, int ns);
   // Threads over the rank's RVEs in step(): OMP_NUM_THREADS if set, else 1 (each RVE is

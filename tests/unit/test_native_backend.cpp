@@ -31,7 +31,7 @@ dem::NativeParams params() {
   p.ns_rule = dem::NativeParams::NsRule::kFixed;
   p.ns = 10;
   p.consolidation_tol = 0.02;
-  p.consolidation_unbalanced = 0.05;
+  p.consolidation_unbalanced = 1e-3;
   return p;
 }
 
@@ -153,6 +153,32 @@ TEST(NativeBackend, RateRuleStrainsTheRveAtTheMpmRate) {
     ASSERT_TRUE(same_bits(a[0], c[0])) << "step " << n;
   }
   EXPECT_EQ(a[0].n_substeps, 2);  // ceil(1.5e4 * 2e-5) = 1, raised to ns_min
+}
+
+// Held at constant volume under the rate rule, an RVE consolidated to a small unbalanced
+// force stays jammed: 200 updates of dF = I over 100 DEM steps each (20,000 steps of real
+// time, where the proportional rule would run 400) keep its contacts and its pressure within
+// 2 %. (Consolidated to 5 % unbalanced force, the column's packings lost all their contacts
+// this way within a few hundred updates: docs/transfers.md, "RVEs at the MPM's rate".)
+TEST(NativeBackend, RateRuleKeepsAnEquilibratedRveJammedAtConstantVolume) {
+  dem::NativeParams p = params();
+  p.ns_rule = dem::NativeParams::NsRule::kRate;
+  p.ns_max = 1000;
+  p.consolidation_tol = 0.01;
+  p.consolidation_unbalanced = 1e-3;
+  RveReply reply[1];
+  auto b = make(0, 1, kP0, reply, p);
+  ASSERT_EQ(reply[0].status, 0);
+  const double p0 = -(reply[0].stress[0] + reply[0].stress[4] + reply[0].stress[8]) / 3.0;
+  const double dt = 100.0 * b->rve(0).state.dt;
+  for (int n = 1; n <= 200; ++n) {
+    step(*b, n, {RowMajor3::Identity()}, reply, dt);
+    ASSERT_EQ(reply[0].status, 0) << "update " << n;  // kNoContacts would be 1
+    ASSERT_EQ(reply[0].n_substeps, 100);
+  }
+  const double pn = -(reply[0].stress[0] + reply[0].stress[4] + reply[0].stress[8]) / 3.0;
+  EXPECT_NEAR(pn, p0, 0.02 * p0);
+  EXPECT_GT(reply[0].coordination, 3.0);
 }
 
 // The velGrad lag at ns = 2 (docs/dem_backend.md): increments that alternate in sign,

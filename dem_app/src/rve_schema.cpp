@@ -36,8 +36,12 @@ void add_rve_backend_keys(config::Schema& s, const RveBackendKeys& k) {
   s.add(key(p + "ns", Type::kInt, "-", "substeps for ns_rule fixed").def("10").ge(2));
   s.add(
       key(p + "ns_factor", Type::kDouble, "-", "substeps per unit of max|dF-I|").def("1e5").gt(0));
-  s.add(key(p + "ns_min", Type::kInt, "-", "fewest substeps (proportional and rate rules)").def("2").ge(2));
-  s.add(key(p + "ns_max", Type::kInt, "-", "most substeps (proportional and rate rules)").def("100").ge(2));
+  s.add(key(p + "ns_min", Type::kInt, "-", "fewest substeps (proportional and rate rules)")
+            .def("2")
+            .ge(2));
+  s.add(key(p + "ns_max", Type::kInt, "-", "most substeps (proportional and rate rules)")
+            .def("100")
+            .ge(2));
   s.add(key(p + "damping", Type::kDouble, "-", k.damping).def("0.2").ge(0).lt(1));
   s.add(key(p + "ke_threshold", Type::kDouble, "-",
             "an RVE explodes when its kinetic energy per volume exceeds this times its initial "

@@ -222,6 +222,9 @@ class RveSet:
         if rule == "fixed":
             return int(self.p["ns"])
         if rule == "rate":
+            if not (math.isfinite(dt) and dt >= 0.0):
+                raise ValueError("ns_rule rate: the update's dt is %r s; the client must send a "
+                                 "finite dt >= 0 (RveRequest::dt)" % dt)
             want = dt / self.y.O.dt
         else:
             g = max(abs(dF[3 * i + j] - (1.0 if i == j else 0.0))

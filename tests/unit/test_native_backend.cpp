@@ -141,6 +141,11 @@ TEST(NativeBackend, RateRuleStrainsTheRveAtTheMpmRate) {
     }
   }
 
+  // A dt that is not a time is the client's fault, named (the server reports it as a backend
+  // error), never a substep count from a NaN.
+  EXPECT_THROW(step(*b, 2, {f}, reply, std::nan("")), std::runtime_error);
+  EXPECT_THROW(step(*b, 2, {f}, reply, -1e-3), std::runtime_error);
+
   dem::NativeParams q = params();
   q.ns_rule = dem::NativeParams::NsRule::kProportional;
   q.ns_factor = 1.5e4;

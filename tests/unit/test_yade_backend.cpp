@@ -247,6 +247,16 @@ TEST_F(YadeBackend, RateRuleTakesTheUpdatesDtOverTheDemStep) {
         100);
     EXPECT_EQ(reply[1].n_substeps, ns1);  // its own O.dt
   }
+  {  // a dt that is not a time: the Python error comes back as a typed error
+    RveRequest req[2] = {};
+    for (int k = 0; k < 2; ++k) {
+      for (int i = 0; i < 9; ++i) req[k].dF[i] = dF[i];
+      req[k].dt = std::nan("");
+    }
+    protocol::ControlHeader h{};
+    h.step = 501;
+    EXPECT_THROW(backend_->step(h, req, reply), std::exception);
+  }
   PyDict_SetItemString(p, "ns_rule", fixed);
   Py_DECREF(rate);
   Py_DECREF(fixed);

@@ -138,6 +138,10 @@ int NativeBackend::n_substeps(const protocol::RveRequest& req, double dem_dt) co
   double want = 0;
   if (p_.ns_rule == NativeParams::NsRule::kRate) {
     // ns dt_dem = the update's dt (to within one DEM step): the RVE deforms at the MPM's rate
+    if (!(std::isfinite(req.dt) && req.dt >= 0.0)) {
+      throw std::runtime_error("ns_rule rate: the update's dt is " + std::to_string(req.dt) +
+                               " s; the client must send a finite dt >= 0 (RveRequest::dt)");
+    }
     want = req.dt / dem_dt;
   } else {
     double g = 0;

@@ -57,11 +57,15 @@ def run_column(app, cfg, out, name, study):
     return s
 
 
+def drucker_prager(cfg):
+    """The scene `cfg`'s (a loaded YAML dict) constitutive.drucker_prager block, {} if none."""
+    return (cfg.get("constitutive") or {}).get("drucker_prager") or {}
+
+
 def has_mu_i(cfg):
-    """True when the scene `cfg` (a loaded YAML dict) gives its Drucker-Prager law the mu(I)
-    rheology (constitutive.drucker_prager.mu_i)."""
-    dp = (cfg.get("constitutive") or {}).get("drucker_prager") or {}
-    return bool(dp.get("mu_i"))
+    """True when the scene `cfg` gives its Drucker-Prager law the mu(I) rheology
+    (constitutive.drucker_prager.mu_i)."""
+    return bool(drucker_prager(cfg).get("mu_i"))
 
 
 def richardson(f, ratio=2.0, safety=1.25):

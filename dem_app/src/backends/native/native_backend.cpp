@@ -150,6 +150,7 @@ int NativeBackend::n_substeps(const protocol::RveRequest& req, double dem_dt) co
         g = std::max(g, std::abs(req.dF[3 * i + j] - (i == j ? 1.0 : 0.0)));
     want = p_.ns_factor * g;
   }
+  // clamped as a double first: a huge want must not overflow the int
   const double ns = std::ceil(std::min(want, static_cast<double>(p_.ns_max)));
   return std::max(p_.ns_min, static_cast<int>(ns));
 }

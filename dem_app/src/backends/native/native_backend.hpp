@@ -56,7 +56,8 @@ class NativeBackend final : public RveBackend {
   // For tests and benchmarks: owned RVE k (local index).
   native::RveRecord& rve(std::size_t k) { return rves_[k]; }
   const native::NeighbourList& neighbour_list(std::size_t k) const { return lists_[k]; }
-  // Substeps the rule gives for dF (row-major).
+  // Substeps the rule (p_.ns_rule) gives for one update: its dF (proportional) or its dt over
+  // the RVE's DEM step dem_dt (rate).
   int n_substeps(const protocol::RveRequest& req, double dem_dt) const;
   // Apply dF over ns substeps with the velGrad lag corrected (mpmdem_rve.RveSet._burst).
   void burst(std::size_t k, const double* dF, int ns);

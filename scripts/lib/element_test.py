@@ -144,13 +144,17 @@ def load_config(path, backend=None, paths=None):
         fail(path, "coupling.backend", "%r is not one of %s" % (plan["backend"], ", ".join(BACKENDS)))
     plan["packing_dir"] = os.path.abspath(yade["packing_dir"]) if yade.get("packing_dir") else ""
     plan["packings"] = list(yade.get("packings") or [])
-    plan["ns"] = yade.get("ns", 10)
+    # the substep rule as dem_app reads it (schema defaults: proportional, ns 10); ns only
+    # means something under the fixed rule
+    plan["ns_rule"] = yade.get("ns_rule", "proportional")
+    plan["ns"] = yade.get("ns", 10) if plan["ns_rule"] == "fixed" else None
     plan["native_dir"] = ""
     if plan["backend"] == "native":
         native = native_section(path, co)
         plan["native_dir"] = native["packing_dir"]
         plan["packings"] = list(native.get("packings") or [])
-        plan["ns"] = native.get("ns", 10)
+        plan["ns_rule"] = native.get("ns_rule", "proportional")
+        plan["ns"] = native.get("ns", 10) if plan["ns_rule"] == "fixed" else None
         plan["native"] = native
     if "porosity" not in (co.get("outputs") or []):
         fail(path, "coupling.outputs", "must list porosity (summary.json reports porosity_initial)")
@@ -412,7 +416,7 @@ def cmd_report(out):
         },
         "config": plan["config"], "backend": plan["backend"], "packings": plan["packings"],
         "pressure_Pa": plan["pressure"], "rves": plan["rves"],
-        "server_ranks": plan["server_ranks"], "ns": plan["ns"],
+        "server_ranks": plan["server_ranks"], "ns_rule": plan["ns_rule"], "ns": plan["ns"],
         "tests": tests,
     }
     with open(os.path.join(out, "summary.json"), "w") as f:

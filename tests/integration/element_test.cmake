@@ -31,3 +31,14 @@ endforeach()
 add_test(NAME element_seed_study_steps COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/element_seeds.sh)
 set_tests_properties(element_seed_study_steps PROPERTIES TIMEOUT 60 LABELS "integration;no_asan"
                      ENVIRONMENT "${_et_env}")
+# scripts/rve_mu_i_study: its config and fit steps (no DEM run; Python only), and the study end
+# to end on 4 of the column's RVEs at three inertial numbers (YADE builds the packings; the
+# friction must rise with I). Normal pass only: the native C++ is covered by ASan units.
+add_test(NAME rve_mu_i_study_steps COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/rve_mu_i.sh steps)
+set_tests_properties(rve_mu_i_study_steps PROPERTIES TIMEOUT 60 LABELS "integration;no_asan"
+                     ENVIRONMENT "${_et_env}")
+if(MPMDEM_WITH_YADE AND EXISTS /usr/bin/yade AND EXISTS /usr/bin/python3.11-config)
+  add_test(NAME rve_mu_i_study_run COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/rve_mu_i.sh run)
+  set_tests_properties(rve_mu_i_study_run PROPERTIES TIMEOUT 300 LABELS "integration;no_asan"
+                       ENVIRONMENT "${_et_env}" RUN_SERIAL TRUE)
+endif()

@@ -15,6 +15,11 @@ run with /usr/bin/python3 (Debian's numpy, yaml, matplotlib).
       to the DEM time, which the analysis counts). IN must have exactly one test, a triaxial
       path, and the `rate` substep rule in its coupling (otherwise dt would not set the
       RVE's strain rate): exit 2 naming the key. Prints dt and steps.
+  rve_mu_i.py config-proportional IN NS_FACTOR NS_MAX OUT
+      write IN with the `proportional` substep rule (ns = clamp(ceil(NS_FACTOR max|dF - I|),
+      ns_min, NS_MAX): a fixed strain per DEM substep, the shipped column's rule) and IN's
+      own dt and steps: the RVE's strain rate is then the rule's, whatever dt. Its point is
+      shown beside the rate rule's and left out of the fit.
   rve_mu_i.py analyse DIR RUN... --grain-diameter D --grain-density RHO [--figure PNG]
       read DIR/RUN/triaxial.csv and DIR/RUN/plan.json of each run; write DIR/mu_i.json,
       DIR/mu_i.md and the figure.
@@ -60,7 +65,9 @@ def nominal_step(strain, inertial_number, pressure, d, rho_s):
     return hencky / (steps * rate), steps   # dt adjusted to the whole number of steps
 
 
-def write_config(src, inertial_number, dst, d, rho_s):
+def write_config(src, inertial_number, dst, d, rho_s, proportional=None):
+    """IN with dt and steps set for the nominal I (rate rule), or with the proportional rule
+    (ns_factor, ns_max) = proportional and IN's dt and steps."""
     import yaml
     with open(src) as f:
         cfg = yaml.safe_load(f)
@@ -76,6 +83,15 @@ def write_config(src, inertial_number, dst, d, rho_s):
         fail("%s: coupling.yade.ns_rule (and coupling.native.ns_rule, if given) must be rate, "
              "so that each update's dt sets the RVE's strain rate; got %s / %s"
              % (src, yade_rule, native_rule))
+    if proportional:
+        for b in ("yade", "native"):
+            if coupling.get(b):
+                coupling[b].update({"ns_rule": "proportional", "ns_factor": proportional[0],
+                                    "ns_max": proportional[1]})
+        coupling["service_name"] = "%s_proportional" % coupling.get("service_name", "mu_i")
+        with open(dst, "w") as f:
+            yaml.safe_dump(cfg, f, sort_keys=False)
+        return et["dt"], tests[0]["steps"]
     if not (inertial_number > 0 and math.isfinite(inertial_number)):
         fail("inertial number %r: give a finite I > 0" % inertial_number)
     t = tests[0]
@@ -89,23 +105,26 @@ def write_config(src, inertial_number, dst, d, rho_s):
     return et["dt"], t["steps"]
 
 
-def dem_time_per_update(scene_path, dt):
-    """DEM time an update of dt runs, as the native backend's rate rule gives it.
+def dem_time_per_update(scene_path, dt, step_strain):
+    """DEM time an update of dt runs, as the native backend's substep rule gives it.
 
-    scene_path: the run's scene.yaml (the coupling section dem_app read). ns = clamp(ceil(dt /
-    dt_dem), ns_min, ns_max) substeps of the RVE's own dt_dem (the `dt` line of its native
-    packing): at least dt, at most one DEM step more unless clamped. The mean over the
-    packings, which the RVEs are drawn from.
+    scene_path: the run's scene.yaml (the coupling section dem_app read). Rate rule: ns =
+    clamp(ceil(dt / dt_dem), ns_min, ns_max) substeps of the RVE's own dt_dem (the `dt` line
+    of its native packing), at least dt, at most one DEM step more unless clamped.
+    Proportional rule: ns = clamp(ceil(ns_factor step_strain), ns_min, ns_max), step_strain
+    the update's max|dF - I| (the axial strain per step of the triaxial path). The mean over
+    the packings, which the RVEs are drawn from.
     """
     import yaml
     with open(scene_path) as f:
         co = (yaml.safe_load(f) or {}).get("coupling") or {}
     native = co.get("native") or {}
-    if co.get("backend") != "native" or native.get("ns_rule") != "rate":
+    rule = native.get("ns_rule")
+    if co.get("backend") != "native" or rule not in ("rate", "proportional"):
         fail("%s: coupling.backend %r, coupling.native.ns_rule %r: the analysis needs the "
-             "native backend's rate rule (it reads each RVE's DEM step from its native "
-             "packing); run the study with --backend native"
-             % (scene_path, co.get("backend"), native.get("ns_rule")))
+             "native backend's rate or proportional rule (it reads each RVE's DEM step from "
+             "its native packing); run the study with --backend native"
+             % (scene_path, co.get("backend"), rule))
     ns_min, ns_max = int(native.get("ns_min", 2)), int(native.get("ns_max", 100))
     times = []
     for name in native.get("packings") or []:
@@ -118,7 +137,8 @@ def dem_time_per_update(scene_path, dt):
                     break
         if not dt_dem or dt_dem <= 0:
             fail("%s: no 'dt' line with a DEM step > 0" % path, 1)
-        times.append(min(max(math.ceil(dt / dt_dem), ns_min), ns_max) * dt_dem)
+        want = dt / dt_dem if rule == "rate" else float(native.get("ns_factor", 1e5)) * step_strain
+        times.append(min(max(math.ceil(want), ns_min), ns_max) * dt_dem)
     if not times:
         fail("%s: coupling.native.packings is empty" % scene_path, 1)
     return sum(times) / len(times)
@@ -210,7 +230,7 @@ def mu_of(params, I):
 
 
 def analyse(folder, runs, d, rho_s, figure):
-    res = []
+    res, prop = [], []   # the rate rule's runs (fitted), the proportional rule's (shown)
     for run in runs:
         base = os.path.join(folder, run)
         try:
@@ -220,10 +240,13 @@ def analyse(folder, runs, d, rho_s, figure):
             print("rve_mu_i: %s: %s (did this run fail?)" % (base, e), file=sys.stderr)
             continue
         dt = float(plan["dt"])
+        t = plan["tests"][0]
+        step_strain = 1.0 - (1.0 - float(t["strain"])) ** (1.0 / int(t["steps"]))
         w = window_figures(os.path.join(base, "triaxial.csv"), dt, d, rho_s,
-                           dem_time_per_update(os.path.join(base, "scene.yaml"), dt))
+                           dem_time_per_update(os.path.join(base, "scene.yaml"), dt,
+                                               step_strain))
         w["run"] = run
-        res.append(w)
+        (prop if run == "proportional" else res).append(w)
     if len(res) < 3:
         fail("%d complete runs in %s: the fit needs 3 or more" % (len(res), folder), 1)
     res.sort(key=lambda r: r["inertial_number"])
@@ -234,13 +257,13 @@ def analyse(folder, runs, d, rho_s, figure):
         p["phi_s_deg"] = math.degrees(math.asin(p["a"]))
         p["phi_2_deg"] = math.degrees(math.asin(min(1.0, p["a"] + p["b"])))
     doc = {"grain_diameter_m": d, "grain_density": rho_s, "window_fraction": FRACTION,
-           "runs": res, "fit": free, "fit_i0_jop": jop,
+           "runs": res, "proportional_runs": prop, "fit": free, "fit_i0_jop": jop,
            "definitions": __doc__.split("Definitions")[1].strip()}
     with open(os.path.join(folder, "mu_i.json"), "w") as f:
         json.dump(doc, f, indent=1)
     lines = ["| run | dt (s) | DEM time / dt | I | shear rate (1/s) | p (Pa) | phi (deg) | ± s.e. | "
              "d eps_v / d eps_a | coordination |", "|---|---|---|---|---|---|---|---|---|---|"]
-    for r in res:
+    for r in res + prop:
         lines.append("| %s | %.3g | %.3f | %.3g | %.3g | %.0f | %.2f | %.2f | %+.3f | %.2f |"
                      % (r["run"], r["dt_s"], r["dem_time_per_update_s"] / r["dt_s"],
                         r["inertial_number"], r["gamma_dot_per_s"],
@@ -258,11 +281,11 @@ def analyse(folder, runs, d, rho_s, figure):
         f.write(md)
     print(md, end="")
     if figure:
-        plot(res, free, jop, figure)
+        plot(res, prop, free, jop, figure)
     return 0
 
 
-def plot(res, free, jop, path):
+def plot(res, prop, free, jop, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -270,7 +293,11 @@ def plot(res, free, jop, path):
     I = np.array([r["inertial_number"] for r in res])
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     ax.errorbar(I, [r["phi_deg"] for r in res], yerr=[r["phi_se_deg"] for r in res],
-                fmt="o", color="k", capsize=3, label="RVEs, drained triaxial (± s.e.)")
+                fmt="o", color="k", capsize=3, label="RVEs, rate rule, drained triaxial (± s.e.)")
+    if prop:
+        ax.errorbar([r["inertial_number"] for r in prop], [r["phi_deg"] for r in prop],
+                    yerr=[r["phi_se_deg"] for r in prop], fmt="s", color="C3", capsize=3,
+                    label="RVEs, proportional rule (the shipped column's; not fitted)")
     x = np.logspace(math.log10(I.min() / 3), math.log10(I.max() * 3), 200)
     for p, style, name in ((free, "-", "fit"), (jop, "--", "fit, I_0 = 0.279")):
         ax.plot(x, np.degrees(np.arcsin(np.clip(mu_of(p, x), -1, 1))), style,
@@ -344,6 +371,15 @@ def main(argv):
         except ValueError:
             fail("inertial number '%s' is not a number" % argv[3])
         print("%.6g %d" % write_config(argv[2], i, argv[4], d, rho))
+        return 0
+    if len(argv) == 6 and argv[1] == "config-proportional":
+        try:
+            nsf, nsm = float(argv[3]), int(argv[4])
+        except ValueError:
+            fail("NS_FACTOR %r / NS_MAX %r: give a number and an integer" % (argv[3], argv[4]))
+        if not (nsf > 0 and nsm >= 2):
+            fail("NS_FACTOR %r / NS_MAX %r: give NS_FACTOR > 0 and NS_MAX >= 2" % (nsf, nsm))
+        print("%.6g %d" % write_config(argv[2], 0.0, argv[5], d, rho, (nsf, nsm)))
         return 0
     if len(argv) >= 4 and argv[1] == "analyse":
         return analyse(argv[2], argv[3:], d, rho, figure)

@@ -6,7 +6,8 @@
 #   (0.71 % measured; docs/transfers.md, "mu(I): a deposit that converges in h"), no mass is
 #   lost, the deposit comes to rest before 6 t*;
 # - mu(I) dissipates in the fast flow what the rate-independent law does not: the 99 %-mass
-#   front stops shorter (3.80 against 4.29 m measured; asserted > 4 % shorter).
+#   front stops shorter (3.80 against 4.29 m measured; asserted > 4 % shorter);
+# - scripts/lib/snapshot_fronts.py reads the final state's fronts as summary.json does.
 # Env: MPMDEM_BIN (build dir), MPMDEM_SRC (source dir).
 set -uo pipefail
 src=${MPMDEM_SRC:-$(cd "$(dirname "$0")/../.." && pwd)}
@@ -44,5 +45,20 @@ assert mu["stop"]["reason"] == "at_rest", mu["stop"]
 assert 0 < mu["energy_budget"]["E_err_share"] < 0.02, ("item 5", mu["energy_budget"])
 assert mu["runout_mass99_m"] < 0.96 * dp["runout_mass99_m"], (mu["runout_mass99_m"],
                                                               dp["runout_mass99_m"])
+PY
+# scripts/lib/snapshot_fronts.py (the fronts of a snapshot, for the studies that compare runs
+# at 3 t*) on the final state reads what summary.json reports: the same 99 %-mass front, and
+# the farthest and highest points' centres half a point's extent (0.0275 m / 3 / 2) short
+/usr/bin/python3 - "$work/mu_i" "$src/scripts/lib" <<'PY' || fail "snapshot_fronts"
+import json, sys
+sys.path.insert(0, sys.argv[2])
+import snapshot_fronts
+s = json.load(open(sys.argv[1] + "/summary.json"))
+f = snapshot_fronts.fronts(sys.argv[1] + "/final_state.h5")
+half = 0.0275 / 3 / 2
+assert abs(f["mass99_m"] - s["runout_mass99_m"]) < 1e-9, (f, s["runout_mass99_m"])
+assert abs(f["farthest_point_m"] + half - s["runout_m"]) < 1e-9, (f, s["runout_m"])
+assert abs(f["highest_point_m"] + half - s["final_height_m"]) < 1e-9, (f, s["final_height_m"])
+print("snapshot_fronts: the final state's fronts match summary.json")
 PY
 echo "mu_i_column: ok"

@@ -10,7 +10,9 @@
 #          steps of at most 1e-4 strain (updates of at least 2.5e-5 s), checked against the granular rheology's law: the friction rises with I
 #          (GDR MiDi 2004; Jop et al. 2006), by ~8 deg from 0.003 to 0.3 in the full study
 #          (docs/rve_rate.md), asserted > 3 deg; the measured I within a factor 0.6-1.2 of the
-#          nominal (p rises from 5 to ~7 kPa in drained triaxial compression).
+#          nominal (p rises from 5 to ~7 kPa in drained triaxial compression); with
+#          --proportional 1.5e4:100 (the shipped column's rule) the extra run's I is the rule's
+#          ~13 /s axial rate, ~0.03, whatever dt.
 # Env: MPMDEM_BIN (build dir), MPMDEM_SRC (source dir). Every process scripts/element_test
 # starts is stopped by its PID (scripts/lib/pair.sh).
 set -uo pipefail
@@ -77,7 +79,7 @@ yaml.safe_dump(c, open(sys.argv[2], "w"), sort_keys=False)
 PY
     rc=0
     MPMDEM_BUILD=$bin "$src/scripts/rve_mu_i_study" "$work/small.yaml" \
-      --inertial-numbers "0.003 0.03 0.3" --out "$work/out" || rc=$?
+      --inertial-numbers "0.003 0.03 0.3" --proportional 1.5e4:100 --out "$work/out" || rc=$?
     [[ $rc == 0 ]] || fail "scripts/rve_mu_i_study exited $rc"
     for f in mu_i.json mu_i.md mu_i.png; do [[ -s $work/out/$f ]] || fail "$f missing"; done
     "$py" - "$work/out/mu_i.json" <<'PY' || exit 1
@@ -95,6 +97,11 @@ print("phi %.2f / %.2f / %.2f deg at I %.3g / %.3g / %.3g" % tuple(
     [runs[k]["inertial_number"] for k in ("I_0.003", "I_0.03", "I_0.3")]))
 assert rise > 3.0, "friction rises %.2f deg from I = 0.003 to 0.3, expected > 3" % rise
 assert d["fit"]["b"] > 0, d["fit"]
+# the proportional rule (1.5e4:100, the shipped column's): 6.7e-5 strain per DEM substep of
+# ~5.2e-6 s, ~13 /s axial whatever dt: I ~0.03 at ~7 kPa (0.0305 in the full study)
+(p,) = d["proportional_runs"]
+assert p["run"] == "proportional" and 0.015 < p["inertial_number"] < 0.06, p
+print("proportional rule: I %.3g, phi %.2f deg" % (p["inertial_number"], p["phi_deg"]))
 print("rve_mu_i run: ok")
 PY
     ;;

@@ -21,19 +21,20 @@ run with /usr/bin/python3 (Debian's numpy, yaml, matplotlib).
       own dt and steps: the RVE's strain rate is then the rule's, whatever dt. Its point is
       shown beside the rate rule's and left out of the fit.
   rve_mu_i.py analyse DIR RUN... --grain-diameter D --grain-density RHO [--figure PNG]
-      read DIR/RUN/triaxial.csv and DIR/RUN/plan.json of each run; write DIR/mu_i.json,
-      DIR/mu_i.md and the figure.
+      read DIR/RUN/triaxial.csv, plan.json and scene.yaml of each run (a run named
+      `proportional` is shown, not fitted); write DIR/mu_i.json, DIR/mu_i.md and the figure.
   rve_mu_i.py --self-test
 
 Definitions (the local law's, mpm_app/src/constitutive/drucker_prager.hpp):
 - the window is the last 20 % of the steps (the element tests' phi_cs window);
 - phi = asin((s1 - s3) / (s1 + s3)) of the RVE-mean stress per step, averaged over the
-  window; its standard error from the 8 (or K) RVEs' own window means;
+  window; its standard error from the RVEs' own window means;
 - shear rate gamma_dot = sqrt(2 de:de) / t_window, de the deviator of the RVE-mean Hencky
   strain's change over the window (sqrt(3) times the axial rate at constant volume), t_window
-  the DEM time the window's updates ran (each update ceil(dt / dt_dem) DEM steps of the
-  packing's dt_dem, mean over the packings: a few % above the updates' dt when dt spans few
-  DEM steps);
+  the DEM time the window's updates ran (rate rule: each update ceil(dt / dt_dem) DEM steps
+  of the packing's dt_dem, a few % above the updates' dt when dt spans few DEM steps;
+  proportional rule: ceil(ns_factor x the step's axial strain) of them; within ns_min,
+  ns_max; mean over the packings);
 - I = gamma_dot d / sqrt(p / rho_s), p the window's mean pressure;
 - the fit: sin phi(I) = a + b I / (I_0 + I) (Jop, Forterre & Pouliquen 2006, with sin phi
   for mu as the local law's plane-strain matching has it), least squares in sin phi, I_0 on

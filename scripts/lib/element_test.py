@@ -33,7 +33,7 @@ SECTION_KEYS = {
     "server_ranks": (int, 1, "dem_app MPI ranks"),
     "rves": (int, 1, "RVEs driven along each path (the report uses their mean stress)"),
     "pressure": (float, 1.0e5, "Pa, isotropic initial stress (RveInit) of every RVE"),
-    "dt": (float, 1.0e-3, "s, MPM time step written into the requests (no effect on the DEM)"),
+    "dt": (float, 1.0e-3, "s, MPM time step written into the requests (under ns_rule rate it sets each update's DEM time)"),
     "timeout_s": (float, 1800.0, "s, longest wall time allowed per path"),
     "build_packings": (bool, True,
                        "build missing packings of coupling.yade.packings with the packings: block"),
@@ -65,6 +65,13 @@ def native_section(path, co):
     native.update(own)
     native["packing_dir"] = os.path.abspath(native["packing_dir"]) if native.get("packing_dir") else ""
     return json.loads(json.dumps(native))  # deep copy
+
+
+def substep_rule(section):
+    """(ns_rule, ns) of a backend section as dem_app reads it (schema defaults: proportional,
+    ns 10); ns only means something under the fixed rule, else None."""
+    rule = section.get("ns_rule", "proportional")
+    return rule, (section.get("ns", 10) if rule == "fixed" else None)
 
 
 def load_config(path, backend=None, paths=None):
@@ -144,17 +151,13 @@ def load_config(path, backend=None, paths=None):
         fail(path, "coupling.backend", "%r is not one of %s" % (plan["backend"], ", ".join(BACKENDS)))
     plan["packing_dir"] = os.path.abspath(yade["packing_dir"]) if yade.get("packing_dir") else ""
     plan["packings"] = list(yade.get("packings") or [])
-    # the substep rule as dem_app reads it (schema defaults: proportional, ns 10); ns only
-    # means something under the fixed rule
-    plan["ns_rule"] = yade.get("ns_rule", "proportional")
-    plan["ns"] = yade.get("ns", 10) if plan["ns_rule"] == "fixed" else None
+    plan["ns_rule"], plan["ns"] = substep_rule(yade)
     plan["native_dir"] = ""
     if plan["backend"] == "native":
         native = native_section(path, co)
         plan["native_dir"] = native["packing_dir"]
         plan["packings"] = list(native.get("packings") or [])
-        plan["ns_rule"] = native.get("ns_rule", "proportional")
-        plan["ns"] = native.get("ns", 10) if plan["ns_rule"] == "fixed" else None
+        plan["ns_rule"], plan["ns"] = substep_rule(native)
         plan["native"] = native
     if "porosity" not in (co.get("outputs") or []):
         fail(path, "coupling.outputs", "must list porosity (summary.json reports porosity_initial)")

@@ -40,7 +40,6 @@ Definitions (the local law's, mpm_app/src/constitutive/drucker_prager.hpp):
   for mu as the local law's plane-strain matching has it), least squares in sin phi, I_0 on
   a log grid with a and b linear; also with I_0 = 0.279 held (Jop et al.'s glass beads).
 """
-import csv
 import json
 import math
 import os
@@ -89,21 +88,19 @@ def write_config(src, inertial_number, dst, d, rho_s, proportional=None):
             if coupling.get(b):
                 coupling[b].update({"ns_rule": "proportional", "ns_factor": proportional[0],
                                     "ns_max": proportional[1]})
-        coupling["service_name"] = "%s_proportional" % coupling.get("service_name", "mu_i")
-        with open(dst, "w") as f:
-            yaml.safe_dump(cfg, f, sort_keys=False)
-        return et["dt"], tests[0]["steps"]
-    if not (inertial_number > 0 and math.isfinite(inertial_number)):
-        fail("inertial number %r: give a finite I > 0" % inertial_number)
-    t = tests[0]
-    et["dt"], t["steps"] = nominal_step(float(t["strain"]), inertial_number,
-                                        float(et["pressure"]), d, rho_s)
+        suffix = "proportional"
+    else:
+        if not (inertial_number > 0 and math.isfinite(inertial_number)):
+            fail("inertial number %r: give a finite I > 0" % inertial_number)
+        t = tests[0]
+        et["dt"], t["steps"] = nominal_step(float(t["strain"]), inertial_number,
+                                            float(et["pressure"]), d, rho_s)
+        suffix = "I%.3g" % inertial_number
     # one service name per run, so that runs started together do not meet
-    coupling["service_name"] = "%s_I%.3g" % (coupling.get("service_name", "mu_i"),
-                                             inertial_number)
+    coupling["service_name"] = "%s_%s" % (coupling.get("service_name", "mu_i"), suffix)
     with open(dst, "w") as f:
         yaml.safe_dump(cfg, f, sort_keys=False)
-    return et["dt"], t["steps"]
+    return et["dt"], tests[0]["steps"]
 
 
 def dem_time_per_update(scene_path, dt, step_strain):
@@ -146,22 +143,20 @@ def dem_time_per_update(scene_path, dt, step_strain):
 
 
 def principal_phi(s):
-    """Mohr-Coulomb angle (deg) of a stress (tension positive)."""
+    """Mohr-Coulomb angle (deg) of a stress, element_test.mobilised_phi's; nan for a zero
+    stress (an RVE with no contact: DEM stresses are never tensile), left out of the means."""
     import numpy as np
-    w = np.sort(-np.linalg.eigvalsh(0.5 * (s + s.T)))   # compressive, ascending
-    s3, s1 = w[0], w[-1]
-    if s1 + s3 <= 0:
-        return float("nan")
-    return math.degrees(math.asin(max(-1.0, min(1.0, (s1 - s3) / (s1 + s3)))))
+    from element_test import mobilised_phi
+    return float("nan") if np.trace(s) >= 0 else mobilised_phi(s)
 
 
 def window_figures(csv_path, dt, d, rho_s, t_update=None):
     """The window's figures of one run (see the module's definitions)."""
     import numpy as np
+    from element_test import read_csv
     rows = {}
-    with open(csv_path) as f:
-        for r in csv.DictReader(f):
-            rows.setdefault(int(r["step"]), []).append(r)
+    for r in read_csv(csv_path):
+        rows.setdefault(int(r["step"]), []).append(r)
     steps = sorted(rows)
     n = steps[-1]
     first = [k for k in steps if k >= n - FRACTION * n]
@@ -194,8 +189,7 @@ def window_figures(csv_path, dt, d, rho_s, t_update=None):
         if len(rve_means) > 1 else float("nan")
     axial = -float(de[2, 2])
     vol = -float(np.trace(de))   # compression positive
-    coord = [float(r["coordination"]) for k in first for r in rows[k]
-             if r.get("coordination") not in (None, "")]
+    coord = [r["coordination"] for k in first for r in rows[k] if "coordination" in r]
     return {
         "steps": n, "window_steps": [k0, k1], "dt_s": dt, "dem_time_per_update_s": t_update or dt,
         "phi_deg": phi, "phi_se_deg": se, "sin_phi": math.sin(math.radians(phi)),

@@ -44,9 +44,12 @@ def _import_yade():
     """Import YADE as a module (argv, symlink, SIGINT: see docs/dem_backend.md)."""
     if "yadeimport" in sys.modules:
         return sys.modules["yadeimport"]
+    import shutil
     import signal
     import tempfile
 
+    # The symlink is needed only while importing: removed right after, so that no process
+    # leaves a folder in $TMPDIR (tests/integration/yade_import_tmp.cmake).
     tmp = tempfile.mkdtemp(prefix="mpmdem_yade_")
     os.symlink("/usr/bin/yade", os.path.join(tmp, "yadeimport.py"))
     sys.path.insert(0, tmp)
@@ -58,6 +61,8 @@ def _import_yade():
     finally:
         sys.argv = argv
         signal.signal(signal.SIGINT, handler if handler is not None else signal.SIG_DFL)
+        sys.path.remove(tmp)
+        shutil.rmtree(tmp, ignore_errors=True)
     return sys.modules["yadeimport"]
 
 

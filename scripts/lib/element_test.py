@@ -316,8 +316,10 @@ def analyse(rows, test, n_rve, pressure):
     """Per step: RVE-mean stress and strain measures of one path."""
     import numpy as np
 
-    steps = sorted({int(r["step"]) for r in rows})
-    by_step = {n: [r for r in rows if int(r["step"]) == n] for n in steps}
+    by_step = {}  # one pass: the rows of each step, in file order
+    for r in rows:
+        by_step.setdefault(int(r["step"]), []).append(r)
+    steps = sorted(by_step)
     comps = ("xx", "xy", "xz", "yx", "yy", "yz", "zx", "zy", "zz")
     out = []
     for n in steps:

@@ -91,9 +91,12 @@ YAML::Node normalised(const KeySpec& spec, const YAML::Node& v) {
       return num(v);
     case Type::kInt:
       return YAML::Node(std::to_string(std::strtoll(v.Scalar().c_str(), nullptr, 10)));
-    case Type::kVec3: {
+    case Type::kVec3:
+    case Type::kNumberList: {
       YAML::Node out(YAML::NodeType::Sequence);
-      for (std::size_t i = 0; i < v.size(); ++i) out.push_back(num(v[i]));
+      if (v.IsSequence()) {
+        for (std::size_t i = 0; i < v.size(); ++i) out.push_back(num(v[i]));
+      }
       return out;
     }
     case Type::kStringList: {

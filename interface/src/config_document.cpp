@@ -133,6 +133,20 @@ std::array<double, 3> Config::vec3(const std::string& path) const {
   return out;
 }
 
+std::vector<double> Config::numbers(const std::string& path) const {
+  const KeySpec& s = spec(path);
+  if (s.type != Type::kNumberList) {
+    throw std::logic_error("config: '" + s.path + "' is not a number list");
+  }
+  std::vector<double> out;
+  const YAML::Node v = value_or_default(path);
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    out.push_back(0.0);
+    parse_double(v[i].Scalar(), out.back());
+  }
+  return out;
+}
+
 std::vector<std::string> Config::strings(const std::string& path) const {
   const KeySpec& s = spec(path);
   if (s.type != Type::kStringList) {

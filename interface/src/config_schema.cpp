@@ -146,6 +146,8 @@ std::string type_name(Type type) {
       return "choice";
     case Type::kVec3:
       return "[x, y, z]";
+    case Type::kNumberList:
+      return "list of numbers";
     case Type::kStringList:
       return "list of strings";
     case Type::kMap:

@@ -133,6 +133,16 @@ class Validator {
         }
         return;
       }
+      case Type::kNumberList: {
+        if (v.IsNull()) return;  // empty list
+        if (!v.IsSequence())
+          fail(line, where, "must be a list of numbers [a, b, ...], got " + describe(v));
+        for (std::size_t i = 0; i < v.size(); ++i) {
+          const std::string item_where = where + "[" + std::to_string(i) + "]";
+          range(spec, number(v[i], item_where, line), item_where, line);
+        }
+        return;
+      }
       case Type::kStringList: {
         if (v.IsNull()) return;  // empty list
         if (!v.IsSequence()) fail(line, where, "must be a list [a, b, ...], got " + describe(v));

@@ -449,3 +449,59 @@ TEST(ColumnCollapse, AtRestKeysAreReadCheckedAndNamed) {
     }
   }
 }
+
+// column_collapse.snapshots_t_star is a list of any length ([] for none), increasing; a run
+// saves exactly the snapshots it lists. Bad lists are refused naming the key, the item and
+// the file.
+TEST(ColumnCollapse, SnapshotTimesAreAnIncreasingListOfAnyLength) {
+  const std::string base = std::string(MPMDEM_SOURCE_DIR) + "/configs/column_collapse_mc.yaml";
+  std::ifstream in(base);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string text = ss.str();
+  const std::string shipped = "  snapshots_t_star: [1, 3, 6]";
+  ASSERT_NE(text.find(shipped), std::string::npos);
+  TempDir dir("snapshot_list");
+  fs::create_directories(dir.path());
+  const std::string file = dir.str() + "/scene.yaml";
+  auto load_with = [&](const std::string& value) {
+    std::string t = text;
+    t.replace(t.find(shipped), shipped.size(), "  snapshots_t_star: " + value);
+    std::ofstream(file) << t;
+    return load_scene(file);
+  };
+  EXPECT_EQ(load_with("[0.5]").column_collapse.snapshots_t_star, std::vector<double>{0.5});
+  EXPECT_TRUE(load_with("[]").column_collapse.snapshots_t_star.empty());
+  EXPECT_EQ(load_with("[0.5, 1, 2, 3, 6]").column_collapse.snapshots_t_star,
+            (std::vector<double>{0.5, 1, 2, 3, 6}));
+  const std::vector<std::pair<std::string, std::vector<std::string>>> bad = {
+      {"[3, 1]", {"column_collapse.snapshots_t_star", "must increase", "1 follows 3"}},
+      {"[1, 1]", {"column_collapse.snapshots_t_star", "must increase"}},
+      {"[1, x]", {"column_collapse.snapshots_t_star[1] must be a number, got 'x'"}},
+      {"[-1]", {"column_collapse.snapshots_t_star[0] must be >= 0, got -1"}},
+      {"2", {"column_collapse.snapshots_t_star must be a list of numbers"}},
+  };
+  for (const auto& [value, parts] : bad) {
+    try {
+      (void)load_with(value);
+      ADD_FAILURE() << "accepted: " << value;
+    } catch (const std::exception& e) {
+      for (const std::string& part : parts)
+        EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(file), std::string::npos) << e.what();
+    }
+  }
+
+  // One snapshot, at 0.5 t*, on a run to 1 t*: that file and no other.
+  Scene scene = mc_scene();
+  scene.column_collapse.snapshots_t_star = {0.5};
+  scene.column_collapse.duration_t_star = 1.0;
+  scene.column_collapse.at_rest = false;
+  TempDir out("snapshot_one");
+  const ColumnRun r = run(scene, out.str());
+  ASSERT_EQ(r.result.exit_code, 0);
+  std::vector<std::string> files;
+  for (const auto& e : fs::directory_iterator(out.path() / "snapshots"))
+    files.push_back(e.path().filename().string());
+  EXPECT_EQ(files, std::vector<std::string>{"t_star_0.5.h5"});
+}

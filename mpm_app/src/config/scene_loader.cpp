@@ -358,8 +358,15 @@ ColumnCollapseParams load_column_collapse(const Config& cfg) {
   c.region = cfg.string("column_collapse.region");
   c.release_constraint = cfg.string("column_collapse.release_constraint");
   c.duration_t_star = cfg.number("column_collapse.duration_t_star");
-  const auto k = cfg.vec3("column_collapse.snapshots_t_star");
-  c.snapshots_t_star.assign(k.begin(), k.end());
+  c.snapshots_t_star = cfg.numbers("column_collapse.snapshots_t_star");
+  for (std::size_t i = 1; i < c.snapshots_t_star.size(); ++i) {
+    if (c.snapshots_t_star[i] <= c.snapshots_t_star[i - 1]) {
+      cfg.fail("column_collapse.snapshots_t_star",
+               "must increase (each time names its snapshot file): " +
+                   config::format_number(c.snapshots_t_star[i]) + " follows " +
+                   config::format_number(c.snapshots_t_star[i - 1]));
+    }
+  }
   if (cfg.has("column_collapse.at_rest")) {
     c.at_rest = true;
     c.at_rest_kinetic_ratio = cfg.number("column_collapse.at_rest.kinetic_ratio");

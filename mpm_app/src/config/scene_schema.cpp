@@ -342,9 +342,9 @@ void add_column_collapse_keys(config::Schema& s) {
             "(solver.end_time stays a cap)")
             .def("6")
             .gt(0));
-  s.add(key("column_collapse.snapshots_t_star", Type::kVec3, "t*",
-            "three stage-2 times (in t*) at which the state is saved to "
-            "snapshots/t_star_<k>.h5 for the pictures")
+  s.add(key("column_collapse.snapshots_t_star", Type::kNumberList, "t*",
+            "stage-2 times (in t*, increasing; any number of them, [] for none) at which the "
+            "state is saved to snapshots/t_star_<k>.h5 for the pictures")
             .def("[1, 3, 6]")
             .ge(0));
   s.add(key("column_collapse.at_rest", Type::kMap, "",

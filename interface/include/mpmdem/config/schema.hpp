@@ -34,6 +34,7 @@ enum class Type {
   kString,      // any string
   kEnum,        // one of KeySpec::choices
   kVec3,        // [x, y, z]
+  kNumberList,  // [a, b, ...] numbers, each within min/max; may be empty
   kStringList,  // [a, b, ...] each one of KeySpec::choices if choices are given
   kMap,         // nested map: its keys are declared with the path as prefix
   kList,        // list of maps: item keys are declared as "path[].key"
@@ -155,6 +156,7 @@ class Config {
   bool boolean(const std::string& path) const;
   std::string string(const std::string& path) const;  // kString and kEnum
   std::array<double, 3> vec3(const std::string& path) const;
+  std::vector<double> numbers(const std::string& path) const;  // kNumberList
   std::vector<std::string> strings(const std::string& path) const;
   std::vector<Config> list(const std::string& path) const;  // items of a kList
   int line(const std::string& path) const;  // 1-based line of the key, or of the section

@@ -138,12 +138,9 @@ std::vector<double> Config::numbers(const std::string& path) const {
   if (s.type != Type::kNumberList) {
     throw std::logic_error("config: '" + s.path + "' is not a number list");
   }
-  std::vector<double> out;
   const YAML::Node v = value_or_default(path);
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    out.push_back(0.0);
-    parse_double(v[i].Scalar(), out.back());
-  }
+  std::vector<double> out(v.size());
+  for (std::size_t i = 0; i < v.size(); ++i) parse_double(v[i].Scalar(), out[i]);
   return out;
 }
 

@@ -46,3 +46,31 @@ resume_from() {
   rm -f "$copy/summary.json" "$copy/final_state.h5"
   run_job "$log" --resume "$copy" --dem-ranks "$ranks" "$@"
 }
+
+# Processes a test starts in the background, each stopped by its PID when the script exits,
+# also on failure or interruption (the script sets `trap bg_stop EXIT`):
+#   bg_start LOG CMD ARGS...  run CMD in the background, output in LOG; its index in bg_pids is
+#                             the number of earlier bg_start calls
+#   bg_wait K                 wait for the K-th (from 0); returns its exit status
+#   bg_stop                   stop those not yet waited for
+# A PID that was waited for is forgotten, so that bg_stop never signals a reused PID.
+bg_pids=()
+bg_start() {
+  local log=$1
+  shift
+  "$@" >"$log" 2>&1 &
+  bg_pids+=($!)
+}
+bg_wait() {
+  local k=$1 rc=0
+  wait "${bg_pids[$k]}" || rc=$?
+  bg_pids[$k]=""
+  return $rc
+}
+bg_stop() {
+  local p
+  for p in "${bg_pids[@]}"; do
+    [[ -n $p ]] && kill -TERM "$p" 2>/dev/null && wait "$p" 2>/dev/null
+  done
+  bg_pids=()
+}

@@ -19,13 +19,7 @@ src=${MPMDEM_SRC:-$(cd "$(dirname "$0")/../.." && pwd)}
 # shellcheck source=common.sh
 source "$src/tests/integration/common.sh"
 test_workdir "concurrent_$case_name"
-pids=()
-stop_runs() {
-  local p
-  for p in "${pids[@]}"; do kill -TERM "$p" 2>/dev/null && wait "$p" 2>/dev/null; done
-  pids=()
-}
-trap stop_runs EXIT
+trap bg_stop EXIT
 
 failures=0
 fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
@@ -47,15 +41,13 @@ export MPMDEM_RUNS_DIR=$work/runs
 for k in 1 2; do
   ranks=1
   [[ $case_name == yade ]] && ranks=$((3 - k))  # run 1 on 2 ranks, run 2 on 1
-  "$src/scripts/run" "$work/scene.yaml" --dem-ranks $ranks "${extra[@]}" >"$work/run$k.log" 2>&1 &
-  pids+=($!)
+  bg_start "$work/run$k.log" "$src/scripts/run" "$work/scene.yaml" --dem-ranks $ranks "${extra[@]}"
 done
 for k in 1 2; do
   rc=0
-  wait "${pids[$((k - 1))]}" || rc=$?
+  bg_wait $((k - 1)) || rc=$?
   ((rc == 0)) && ok "run $k finished (exit 0)" || { fail "run $k exited with $rc"; tail -n 30 "$work/run$k.log" >&2; }
 done
-pids=()
 mapfile -t dirs < <(find "$work/runs" -mindepth 1 -maxdepth 1 -type d | sort)
 ((${#dirs[@]} == 2)) && ok "two run directories: ${dirs[*]##*/}" || fail "expected 2 run directories, found ${#dirs[@]}: ${dirs[*]}"
 left=$(pgrep -f -- "$work/" || true)
@@ -94,13 +86,7 @@ if [[ $case_name == yade ]] && ((${#dirs[@]} == 2)); then
   two=$(sed -n 's/^run: scene .* results in //p' "$work/run1.log" | head -1)  # run 1: 2 ranks
   grep -q "on 2 rank(s)" "$work/run1.log" && [[ -d $two ]] || { echo "FAIL: run 1's directory ($two)" >&2; exit 1; }
   copy=$work/resumed_3ranks
-  cp -r "$two" "$copy"
-  for d in "$copy"/checkpoints/step_*; do
-    n=$((10#${d##*step_}))
-    ((n > 10)) && rm -rf "$d"
-  done
-  rm -f "$copy/summary.json" "$copy/final_state.h5"
-  run_job "$work/resumed.log" --resume "$copy" --dem-ranks 3 --max-steps 30
+  resume_from "$two" "$copy" 10 "$work/resumed.log" 3 --max-steps 30
   /usr/bin/python3 - "$two" "$copy" <<'PY' || fail "the 2-rank run resumed on 3 ranks differs"
 import sys
 import h5py, numpy as np

@@ -32,16 +32,12 @@ PY
 "$app" "$scene" --out "$work/mu_i" --threads 2 >"$work/mu_i.log" 2>&1 ||
   { tail -n 30 "$work/mu_i.log" >&2; fail "the mu(I) column failed"; }
 # The two coarse columns side by side, one core each; both stopped by PID on any exit.
-pids=()
-stop_runs() { for p in "${pids[@]}"; do kill -TERM "$p" 2>/dev/null && wait "$p" 2>/dev/null; done; }
-trap stop_runs EXIT
+trap bg_stop EXIT
 for name in mu_i_h0.055 rate_independent_h0.055; do
-  "$app" "$work/$name.yaml" --out "$work/$name" --threads 1 >"$work/$name.log" 2>&1 &
-  pids+=($!)
+  bg_start "$work/$name.log" "$app" "$work/$name.yaml" --out "$work/$name" --threads 1
 done
-wait "${pids[0]}" || { tail -n 30 "$work/mu_i_h0.055.log" >&2; fail "the 0.055 m mu(I) column failed"; }
-wait "${pids[1]}" || { tail -n 30 "$work/rate_independent_h0.055.log" >&2; fail "the 0.055 m rate-independent column failed"; }
-pids=()
+bg_wait 0 || { tail -n 30 "$work/mu_i_h0.055.log" >&2; fail "the 0.055 m mu(I) column failed"; }
+bg_wait 1 || { tail -n 30 "$work/rate_independent_h0.055.log" >&2; fail "the 0.055 m rate-independent column failed"; }
 /usr/bin/python3 - "$work" <<'PY' || exit 1
 import json, sys
 w = sys.argv[1]

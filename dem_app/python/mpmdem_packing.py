@@ -63,7 +63,14 @@ def _import_yade():
         signal.signal(signal.SIGINT, handler if handler is not None else signal.SIG_DFL)
         sys.path.remove(tmp)
         shutil.rmtree(tmp, ignore_errors=True)
-    return sys.modules["yadeimport"]
+    y = sys.modules["yadeimport"]
+    # YADE's Omega also makes /tmp/yade-XXXXXX (a fixed /tmp, not $TMPDIR) for O.tmpFilename(),
+    # which only its plot server uses, and removes it only when the yade program exits: every
+    # process that imports YADE left one behind (hundreds after a CI run). Removed now.
+    own = os.path.dirname(y.O.tmpFilename())
+    if os.path.basename(own).startswith("yade-") and os.path.dirname(own) == "/tmp":
+        shutil.rmtree(own, ignore_errors=True)
+    return y
 
 
 def radii_range(p):

@@ -1,14 +1,13 @@
 #!/usr/bin/env bash
 # The local column with mu(I), configs/column_collapse_mc_mu_i.yaml, as shipped (0.0275 m
-# cells, 3 x 3 points, APIC with U = 0.1 m/s, Coulomb base; ~75 s on 2 threads), then the same
+# cells, 3 x 3 points, APIC with U = 0.3 m/s, Coulomb base; ~75 s on 2 threads), then the same
 # scene on 0.055 m cells with and without its mu_i section (the rate-independent phi = 20 deg
 # law), side by side (~17 s each). Asserted:
 # - issue 14, item 5 on the shipped scene: the residual E_err is < 2 % of the energy released
-#   (0.71 % measured; docs/transfers.md, "mu(I): a deposit that converges in h"), no mass is
+#   (0.93 % measured; docs/transfers.md, "The mu(I) column's front and the time step"), no mass is
 #   lost, the deposit comes to rest before 6 t*;
 # - mu(I) dissipates in the fast flow what the rate-independent law does not: the 99 %-mass
-#   front stops shorter (0.055 m: 3.76 against 4.13 m measured, 0.0275 m: 3.80 against 4.29 m;
-#   asserted > 4 % shorter at 0.055 m);
+#   front stops shorter (0.055 m: 3.71 against 4.08 m measured; asserted > 4 % shorter);
 # - scripts/lib/snapshot_fronts.py reads the final state's fronts as summary.json does.
 # Env: MPMDEM_BIN (build dir), MPMDEM_SRC (source dir).
 set -uo pipefail

@@ -22,6 +22,7 @@ server, coded here again from YADE's API (no import of dem_app/python); numpy on
 log V.
 """
 import os
+import shutil
 import signal
 import sys
 import tempfile
@@ -30,6 +31,8 @@ import numpy as np
 
 
 def import_yade():
+    """Import YADE as a module, leaving no folder behind: neither the symlink's nor YADE's own
+    /tmp/yade-XXXXXX (removed only when the yade program exits; see yade_import_tmp.py)."""
     tmp = tempfile.mkdtemp(prefix="yade_standalone_")
     os.symlink("/usr/bin/yade", os.path.join(tmp, "yadeimport.py"))
     sys.path.insert(0, tmp)
@@ -40,6 +43,11 @@ def import_yade():
     finally:
         sys.argv = argv
         signal.signal(signal.SIGINT, handler or signal.SIG_DFL)
+        sys.path.remove(tmp)
+        shutil.rmtree(tmp, ignore_errors=True)
+    own = os.path.dirname(yadeimport.O.tmpFilename())
+    if os.path.basename(own).startswith("yade-") and os.path.dirname(own) == "/tmp":
+        shutil.rmtree(own, ignore_errors=True)
     return yadeimport
 
 

@@ -2,6 +2,7 @@
 #include "backends/native/binary_state.hpp"
 
 #include <cstring>
+#include <fstream>
 #include <stdexcept>
 #include <type_traits>
 
@@ -13,6 +14,7 @@ namespace {
 // (interleaved) is still read.
 constexpr char kMagic[8] = {'M', 'P', 'M', 'D', 'N', 'A', 'T', '5'};
 constexpr char kMagicNat4[8] = {'M', 'P', 'M', 'D', 'N', 'A', 'T', '4'};
+constexpr char kCheckpointMagic[8] = {'M', 'P', 'M', 'D', 'N', 'C', 'K', '1'};
 
 class Out {
  public:
@@ -156,6 +158,40 @@ RveRecord decode(const std::string& blob) {
     if (c.id1[k] >= n || c.id2[k] >= n) In::fail();
   }
   return r;
+}
+
+void write_checkpoint_header(std::ostream& out, std::uint64_t count) {
+  out.write(kCheckpointMagic, sizeof kCheckpointMagic);
+  out.write(reinterpret_cast<const char*>(&count), sizeof count);
+}
+
+void write_checkpoint_record(std::ostream& out, std::uint64_t gid, const std::string& blob) {
+  const std::uint64_t head[2] = {gid, blob.size()};
+  out.write(reinterpret_cast<const char*>(head), sizeof head);
+  out.write(blob.data(), static_cast<std::streamsize>(blob.size()));
+}
+
+void read_checkpoint(const std::filesystem::path& file,
+                     const std::function<void(std::uint64_t, const std::string&)>& fn) {
+  std::ifstream in(file, std::ios::binary);
+  char magic[sizeof kCheckpointMagic] = {};
+  std::uint64_t count = 0;
+  in.read(magic, sizeof magic);
+  in.read(reinterpret_cast<char*>(&count), sizeof count);
+  if (!in || std::memcmp(magic, kCheckpointMagic, sizeof magic) != 0) {
+    throw std::runtime_error(file.string() + " is not a native-backend checkpoint");
+  }
+  for (std::uint64_t i = 0; i < count; ++i) {
+    std::uint64_t head[2] = {0, 0};
+    in.read(reinterpret_cast<char*>(head), sizeof head);
+    if (!in || head[1] > (std::uint64_t{1} << 36)) {  // no RVE state is 64 GB
+      throw std::runtime_error(file.string() + " is truncated or corrupt");
+    }
+    std::string blob(head[1], '\0');
+    in.read(blob.data(), static_cast<std::streamsize>(blob.size()));
+    if (!in) throw std::runtime_error(file.string() + " is truncated");
+    fn(head[0], blob);
+  }
 }
 
 }  // namespace mpmdem::dem::native

@@ -5,6 +5,8 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
+#include <functional>
 #include <string>
 
 #include "backends/native/rve_state.hpp"
@@ -24,5 +26,15 @@ struct RveRecord {
 std::string encode(const RveRecord& r);
 // Throws std::runtime_error on a blob that is not a native RVE state.
 RveRecord decode(const std::string& blob);
+
+// One rank's checkpoint file (native_rank<r>.bin): a magic, the RVE count, then per RVE its
+// global index, its blob's size and the blob (encode). Written by NativeBackend::checkpoint;
+// read back by restore and by dem_app/tools/native_checkpoint_bench.
+void write_checkpoint_header(std::ostream& out, std::uint64_t count);
+void write_checkpoint_record(std::ostream& out, std::uint64_t gid, const std::string& blob);
+// Calls fn(gid, blob) for each record of the file. Throws std::runtime_error naming the file
+// if it is not a native checkpoint or is truncated.
+void read_checkpoint(const std::filesystem::path& file,
+                     const std::function<void(std::uint64_t, const std::string&)>& fn);
 
 }  // namespace mpmdem::dem::native

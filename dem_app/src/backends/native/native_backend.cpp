@@ -27,7 +27,6 @@ namespace {
 
 using RowMajor3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
 using native::RveRecord;
-constexpr char kCheckpointMagic[8] = {'M', 'P', 'M', 'D', 'N', 'C', 'K', '1'};
 constexpr double kTable1RadiusMin = 0.92e-3, kTable1RadiusMax = 1.38e-3;  // [m]
 
 std::int32_t as_int(protocol::RveStatus s) {
@@ -293,14 +292,9 @@ void NativeBackend::checkpoint(const std::filesystem::path& dir) {
   const auto file = dir / ("native_rank" + std::to_string(ctx_.rank) + ".bin");
   std::ofstream out(file, std::ios::binary | std::ios::trunc);
   if (!out) throw std::runtime_error("cannot write native checkpoint " + file.string());
-  out.write(kCheckpointMagic, sizeof kCheckpointMagic);
-  const std::uint64_t count = rves_.size();
-  out.write(reinterpret_cast<const char*>(&count), sizeof count);
+  native::write_checkpoint_header(out, rves_.size());
   for (std::size_t k = 0; k < rves_.size(); ++k) {
-    const std::string blob = native::encode(rves_[k]);
-    const std::uint64_t head[2] = {ctx_.first_rve + k, blob.size()};
-    out.write(reinterpret_cast<const char*>(head), sizeof head);
-    out.write(blob.data(), static_cast<std::streamsize>(blob.size()));
+    native::write_checkpoint_record(out, ctx_.first_rve + k, native::encode(rves_[k]));
     lists_[k].invalidate();  // continue as a restart from this file would (same rebuilds)
   }
   // Replies after a checkpoint come from the RVE states, here as in a resumed run.
@@ -317,25 +311,12 @@ void NativeBackend::restore(const std::filesystem::path& dir) {
   for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
     const std::string name = entry.path().filename().string();
     if (name.rfind("native_rank", 0) != 0 || entry.path().extension() != ".bin") continue;
-    std::ifstream in(entry.path(), std::ios::binary);
-    char magic[sizeof kCheckpointMagic] = {};
-    std::uint64_t count = 0;
-    in.read(magic, sizeof magic);
-    in.read(reinterpret_cast<char*>(&count), sizeof count);
-    if (!in || std::memcmp(magic, kCheckpointMagic, sizeof magic) != 0) {
-      throw std::runtime_error(entry.path().string() + " is not a native-backend checkpoint");
-    }
-    for (std::uint64_t i = 0; i < count; ++i) {
-      std::uint64_t head[2] = {0, 0};
-      in.read(reinterpret_cast<char*>(head), sizeof head);
-      std::string blob(head[1], '\0');
-      in.read(blob.data(), static_cast<std::streamsize>(blob.size()));
-      if (!in) throw std::runtime_error(entry.path().string() + " is truncated");
-      if (head[0] >= ctx_.first_rve && head[0] < ctx_.first_rve + ctx_.n_rve) {
-        rves_[head[0] - ctx_.first_rve] = native::decode(blob);
-        found[head[0] - ctx_.first_rve] = true;
+    native::read_checkpoint(entry.path(), [&](std::uint64_t gid, const std::string& blob) {
+      if (gid >= ctx_.first_rve && gid < ctx_.first_rve + ctx_.n_rve) {
+        rves_[gid - ctx_.first_rve] = native::decode(blob);
+        found[gid - ctx_.first_rve] = true;
       }
-    }
+    });
   }
   for (std::size_t i = 0; i < found.size(); ++i) {
     if (!found[i]) {

@@ -11,26 +11,37 @@
 namespace mpmdem::dem::native {
 
 void NeighbourList::ensure(const RveState& s) {
-  if (valid_ && x_ref_.size() == s.spheres.size() && n_contacts_ == s.contacts.size()) {
+  const std::size_t n = x_ref_.size();
+  if (valid_ && n == s.spheres.size() && n_contacts_ == s.contacts.size()) {
+    const Eigen::Matrix3d& h = s.cell.hsize;
+    const bool handed = moved_iter_ == s.iter && h == moved_h_;
+    const Eigen::Matrix3d a = handed ? moved_a_ : deformation(h);
     double max_d2 = moved_max_d2_;
-    if (moved_iter_ != s.iter) {
+    if (!handed) {
       max_d2 = 0;
-      for (std::size_t i = 0; i < x_ref_.size(); ++i) {
-        max_d2 = std::max(max_d2, (s.spheres.pos[i] - x_ref_[i].cast<double>()).squaredNorm());
+      for (std::size_t i = 0; i < n; ++i) {
+        const double x[3] = {s.spheres.pos.c[0][i], s.spheres.pos.c[1][i], s.spheres.pos.c[2][i]};
+        const double d2 = residual2(x, a, x_ref_[i].data());
+        max_d2 = d2 == d2 ? std::max(max_d2, d2) : max_d2;  // a NaN skipped, as Newton does
       }
     }
 #ifdef MPMDEM_CHECK_MOVED  // debugging: Newton's max against this scan, bit for bit
-    if (moved_iter_ == s.iter) {
+    if (handed) {
       double m = 0;
-      for (std::size_t i = 0; i < x_ref_.size(); ++i) {
-        m = std::max(m, (s.spheres.pos[i] - x_ref_[i].cast<double>()).squaredNorm());
+      for (std::size_t i = 0; i < n; ++i) {
+        const double x[3] = {s.spheres.pos.c[0][i], s.spheres.pos.c[1][i], s.spheres.pos.c[2][i]};
+        const double d2 = residual2(x, a, x_ref_[i].data());
+        m = d2 == d2 ? std::max(m, d2) : m;
       }
       if (std::memcmp(&m, &max_d2, sizeof m) != 0) std::abort();
     }
 #endif
-    // |x - x_ref| <= |x - (single) x_ref| + its rounding at the build.
-    const double strain = ((s.cell.hsize - h_ref_) * h_ref_inv_).norm();
-    motion_ = 2 * (std::sqrt(max_d2) + ref_rounding_) + strain * (extent_ + max_cutoff_);
+    // |u| <= |x - A x_ref (single)| + |A| (its rounding at the build) + the rounding of the
+    // product A x_ref and of A itself (H - A H_ref is not exactly 0): a few ulps of |A| |x_ref|
+    // and of |H| per image offset, 1e-12 of |A| max |x_ref| is ample.
+    const double strain = (a - Eigen::Matrix3d::Identity()).norm();
+    const double spread = (1 + strain) * (ref_rounding_ + 1e-12 * ref_norm_);
+    motion_ = 2 * (std::sqrt(max_d2) + spread) + strain * max_cutoff_;
     if (motion_ < skin_) return;
   }
   rebuild(s);
@@ -53,19 +64,15 @@ void NeighbourList::rebuild(const RveState& s) {
   x_ref_.resize(n);
   x_ref_.shrink_to_fit();
   ref_rounding_ = 0;
+  ref_norm_ = 0;
   for (std::size_t i = 0; i < n; ++i) {
     x_ref_[i] = sp.pos[i].cast<float>();
     ref_rounding_ = std::max(ref_rounding_, (sp.pos[i] - x_ref_[i].cast<double>()).norm());
+    ref_norm_ = std::max(ref_norm_, x_ref_[i].cast<double>().norm());
   }
-  ref_rounding_ *= 1 + 1e-6;    // the rounding of the norm itself
-  motion_ = 4 * ref_rounding_;  // 2 (max_i |x_i - x_ref_i| + rounding), no strain yet
-  Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 x = sp.pos[i];
-    lo = lo.cwiseMin(x);
-    hi = hi.cwiseMax(x);
-  }
-  extent_ = n ? (hi - lo).norm() : 0.0;
+  ref_rounding_ *= 1 + 1e-6;  // the rounding of the norm itself
+  ref_norm_ *= 1 + 1e-6;
+  motion_ = 4 * (ref_rounding_ + 1e-12 * ref_norm_);  // ensure()'s bound, no strain yet
 
   Vec3 offsets[27];
   Eigen::Vector3i steps[27];

@@ -1,16 +1,20 @@
 // Verlet list of the sphere pairs (and periodic images) that may come into contact before the
 // next rebuild: |x_j + hsize c - x_i| < r_i + r_j + skin when built. It is rebuilt only when
-// the displacements since the last build, together with the cell's deformation acting on the
-// image offsets, may have used up the skin:
-//   2 max_i |x_i - x_i,ref| + |(H - H_ref) H_ref^-1|_F (extent + largest cutoff) >= skin
-// (extent: the diagonal of the spheres' bounding box at the build). Under the small
-// homogeneous increments of a coupling step this is rare. The list also maps pairs to the
-// RVE's real contacts, so that only pairs without a contact are tested for a new one.
-// Storage: compressed rows (pairs of sphere i are contiguous, i < j), 6 bytes per pair
-// (j with the contact flag in its top bit, the 16-bit index of its image offset in a table of
-// the build's distinct offsets, 6 bytes each: a few dozen), 12 per sphere (x_ref
-// in single precision, its rounding added to the displacement bound), sized exactly at
-// each build; nothing per contact (a removed contact's pair is found in its row).
+// the spheres' motion since the build, split into the cell's homogeneous deformation
+// A = H H_ref^-1 and what is left of it (u_i = x_i - A x_i,ref), may have used up the skin:
+//   2 max_i |u_i| + |A - I|_F (2 r_max + skin) >= skin.
+// (A pair's separation is A d_ref + u_j - u_i, and |A d_ref| >= (1 - |A - I|) |d_ref|; a pair
+// left out had |d_ref| >= r_i + r_j + skin.) The homogeneous part moves far spheres of a
+// strained cell far (positions are not wrapped into the cell) without bringing any pair
+// closer than the strain itself does, so it does not use up the skin (until 2026-11-27 the
+// check took |x_i - x_i,ref| and |A - I| times the spheres' extent: 25x the rebuilds on the
+// RVEs of a flowing column, docs/performance.md). Under the small homogeneous increments of a
+// coupling step rebuilds are rare. The list also maps pairs to the RVE's real contacts, so that
+// only pairs without a contact are tested for a new one. Storage: compressed rows (pairs of sphere
+// i are contiguous, i < j), 6 bytes per pair (j with the contact flag in its top bit, the 16-bit
+// index of its image offset in a table of the build's distinct offsets, 6 bytes each: a few dozen),
+// 12 per sphere (x_ref in single precision, its rounding added to the displacement bound), sized
+// exactly at each build; nothing per contact (a removed contact's pair is found in its row).
 #pragma once
 
 #include <Eigen/Core>
@@ -29,14 +33,28 @@ class NeighbourList {
   void ensure(const RveState& s);
   void invalidate() { valid_ = false, moved_iter_ = -1; }
   // The reference positions of the skin check (x, y, z floats per sphere), nullptr if the
-  // list is not valid for n spheres. Newton computes max_i |x_i - x_ref_i|^2 with the new
-  // positions as ensure() would (the same bits) and hands it over with moved(): ensure() of
-  // the next step (s.iter == iter, the positions not moved since) then takes it instead of
-  // scanning the spheres again. Code that moves spheres otherwise invalidates the list.
+  // list is not valid for n spheres.
   const float* ref_positions(std::size_t n) const {
     return valid_ && x_ref_.size() == n ? x_ref_.data()->data() : nullptr;
   }
-  void moved(double max_d2, std::int64_t iter) { moved_max_d2_ = max_d2, moved_iter_ = iter; }
+  // The homogeneous deformation since the build for a cell of lattice vectors h: h H_ref^-1.
+  Eigen::Matrix3d deformation(const Eigen::Matrix3d& h) const { return h * h_ref_inv_; }
+  // |x - a x_ref|^2 of one sphere (x_ref: the float triple at ref), in the one order of
+  // operations that Newton's loop repeats (the same bits: no contraction in this library).
+  static double residual2(const double x[3], const Eigen::Matrix3d& a, const float* ref) {
+    const double r0 = ref[0], r1 = ref[1], r2 = ref[2];
+    double e[3];
+    for (int k = 0; k < 3; ++k) e[k] = x[k] - (a(k, 0) * r0 + a(k, 1) * r1 + a(k, 2) * r2);
+    return e[0] * e[0] + (e[1] * e[1] + e[2] * e[2]);
+  }
+  // Newton computes max_i residual2(x_i, a, x_ref_i) with the new positions and a =
+  // deformation(h), h the lattice that the next step's cell move will give, and hands it over
+  // with moved(): ensure() of the next step (s.iter == iter, the positions not moved since,
+  // the cell's lattice bit for bit h) then takes it instead of scanning the spheres again.
+  // Code that moves spheres otherwise invalidates the list.
+  void moved(double max_d2, std::int64_t iter, const Eigen::Matrix3d& h, const Eigen::Matrix3d& a) {
+    moved_max_d2_ = max_d2, moved_iter_ = iter, moved_h_ = h, moved_a_ = a;
+  }
   std::int64_t rebuilds() const { return rebuilds_; }
   std::size_t heap_bytes() const;  // allocated capacity of the list's arrays
 
@@ -75,9 +93,12 @@ class NeighbourList {
   double skin_factor_;
   bool valid_ = false;
   std::int64_t rebuilds_ = 0;
-  double skin_ = 0, extent_ = 0, max_cutoff_ = 0;
+  double skin_ = 0, max_cutoff_ = 0;
   double ref_rounding_ = 0;  // max_i |x_i - x_ref_i| at the build (single precision)
-  double moved_max_d2_ = 0;  // max_i |x_i - x_ref_i|^2 from Newton, valid at moved_iter_
+  double ref_norm_ = 0;      // max_i |x_ref_i| (bounds the rounding of A x_ref)
+  double moved_max_d2_ = 0;  // max_i |x_i - A x_ref_i|^2 from Newton, valid at moved_iter_
+  Eigen::Matrix3d moved_h_ = Eigen::Matrix3d::Zero();      // the lattice Newton assumed
+  Eigen::Matrix3d moved_a_ = Eigen::Matrix3d::Identity();  // its deformation(moved_h_)
   std::int64_t moved_iter_ = -1;
   std::size_t n_contacts_ = 0;  // contacts of the RVE as the list last saw them
   double motion_ = 0;  // ensure()'s bound on the change of a pair's separation since the build

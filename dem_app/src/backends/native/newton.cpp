@@ -31,8 +31,9 @@ Quat step_rotation(const Vec3& w, double angle2, double dt) {
 // What every sphere of a step shares.
 struct StepConstants {
   double dt, half_dt, quarter_dt2, damping;
-  Eigen::Matrix3d prev;  // NewtonIntegrator::prevVelGrad
-  double dspin[3];       // spin of the change of the velocity gradient
+  Eigen::Matrix3d prev;    // NewtonIntegrator::prevVelGrad
+  double dspin[3];         // spin of the change of the velocity gradient
+  Eigen::Matrix3d skin_a;  // the skin check's homogeneous deformation (NeighbourList::moved)
 };
 
 // NewtonIntegrator::cundallDamp2nd on one component (branch-free sign: same values).
@@ -56,7 +57,7 @@ struct Arrays {
 // fast enough that the rotation's series is not exact (h^2 >= kSeriesLimit) is rotated
 // exactly afterwards by newton(), from its orientation before (q_old, same layout as q).
 // What the loop saw (with kSkin; without, fast is true and max_d2_bits 0): a fast spin;
-// max_i |x_i - x_ref_i|^2 (the skin check's) as the bits of a double (>= 0, so ordered as
+// max_i |x_i - A x_ref_i|^2 (the skin check's) as the bits of a double (>= 0, so ordered as
 // integers: an integer max reduction, which vectorises).
 struct Seen {
   bool fast;
@@ -98,10 +99,8 @@ MPMDEM_ALWAYS_INLINE Seen advance_spheres(
     }
     const double xn[3] = {x[0] + v[0] * k.dt, x[1] + v[1] * k.dt, x[2] + v[2] * k.dt};
     x0[i] = xn[0], x1[i] = xn[1], x2[i] = xn[2];
-    if (kSkin) {  // NeighbourList::ensure's |x - x_ref|^2; a NaN is skipped as std::max does
-      double e[3];
-      for (int a = 0; a < 3; ++a) e[a] = xn[a] - static_cast<double>(ref[3 * i + a]);
-      const double d2 = e[0] * e[0] + (e[1] * e[1] + e[2] * e[2]);  // Eigen's squaredNorm order
+    if (kSkin) {  // NeighbourList::ensure's |x - A x_ref|^2; a NaN is skipped as it does
+      const double d2 = NeighbourList::residual2(xn, k.skin_a, ref + 3 * i);
       std::int64_t u;
       std::memcpy(&u, &d2, sizeof u);
       u = d2 == d2 ? u : 0;
@@ -156,15 +155,25 @@ void newton(RveState& s, double damping, NeighbourList* nl) {
   const double dt = s.dt;
   const Eigen::Matrix3d dvg = cell.vel_grad - cell.prev_vel_grad;
   const Eigen::Matrix3d rot = 0.5 * (dvg - dvg.transpose());
-  const StepConstants k{dt,      0.5 * dt,           0.25 * dt * dt,
-                        damping, cell.prev_vel_grad, {-rot(1, 2), rot(0, 2), -rot(0, 1)}};
   auto& sp = s.spheres;
   const std::size_t n = sp.size();
+  const bool dvg_step = dvg != Eigen::Matrix3d::Zero();
+  const float* ref = nl ? nl->ref_positions(n) : nullptr;
+  // The lattice of the next step's cell move (PeriodicCell::integrate_and_update, the same
+  // operations) and its deformation since the list's build, for the skin check.
+  Eigen::Matrix3d h_next = cell.hsize;
+  Eigen::Matrix3d skin_a = Eigen::Matrix3d::Identity();
+  if (ref && !dvg_step) {
+    const Eigen::Matrix3d inc = dt * cell.vel_grad;
+    h_next += inc * h_next;
+    skin_a = nl->deformation(h_next);
+  }
+  const StepConstants k{dt,      0.5 * dt,           0.25 * dt * dt,
+                        damping, cell.prev_vel_grad, {-rot(1, 2), rot(0, 2), -rot(0, 1)},
+                        skin_a};
   thread_local std::vector<double> q_old;  // scratch of this thread, not of the RVE
   q_old.resize(4 * n);
   Seen seen{false, 0};
-  const bool dvg_step = dvg != Eigen::Matrix3d::Zero();
-  const float* ref = nl ? nl->ref_positions(n) : nullptr;
   if (n > 0) {
     const Arrays a{sp.pos.c[0].data(),     sp.pos.c[1].data(),
                    sp.pos.c[2].data(),     sp.vel.c[0].data(),
@@ -185,7 +194,7 @@ void newton(RveState& s, double damping, NeighbourList* nl) {
   if (ref && !dvg_step) {
     double max_d2;
     std::memcpy(&max_d2, &seen.max_d2_bits, sizeof max_d2);
-    nl->moved(max_d2, s.iter + 1);  // dem_step's ++iter follows
+    nl->moved(max_d2, s.iter + 1, h_next, skin_a);  // dem_step's ++iter follows
   }
   const bool fast = seen.fast;
   // Rare: a fast spin (the series above is not exact), the exact rotation; the spheres are

@@ -59,11 +59,20 @@ int main(int argc, char** argv) {
   try {
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
-      if ((a == "--stride" || a == "--steps" || a == "--damping") && i + 1 < argc) {
+      if (a == "--stride" || a == "--steps" || a == "--damping") {
+        if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
         const std::string v = argv[++i];
-        if (a == "--stride") stride = std::stol(v);
-        if (a == "--steps") steps = std::stol(v);
-        if (a == "--damping") damping = std::stod(v);
+        std::size_t used = 0;
+        try {
+          if (a == "--stride") stride = std::stol(v, &used);
+          if (a == "--steps") steps = std::stol(v, &used);
+          if (a == "--damping") damping = std::stod(v, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used == 0 || used != v.size()) {
+          throw std::invalid_argument(a + ": '" + v + "' is not a number");
+        }
       } else if (a.rfind("--", 0) == 0) {
         throw std::invalid_argument("unknown option " + a);
       } else {

@@ -174,6 +174,7 @@ void write_checkpoint_record(std::ostream& out, std::uint64_t gid, const std::st
 void read_checkpoint(const std::filesystem::path& file,
                      const std::function<void(std::uint64_t, const std::string&)>& fn) {
   std::ifstream in(file, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read native checkpoint " + file.string());
   char magic[sizeof kCheckpointMagic] = {};
   std::uint64_t count = 0;
   in.read(magic, sizeof magic);

@@ -16,23 +16,10 @@ void NeighbourList::ensure(const RveState& s) {
     const Eigen::Matrix3d& h = s.cell.hsize;
     const bool handed = moved_iter_ == s.iter && h == moved_h_;
     const Eigen::Matrix3d a = handed ? moved_a_ : deformation(h);
-    double max_d2 = moved_max_d2_;
-    if (!handed) {
-      max_d2 = 0;
-      for (std::size_t i = 0; i < n; ++i) {
-        const double x[3] = {s.spheres.pos.c[0][i], s.spheres.pos.c[1][i], s.spheres.pos.c[2][i]};
-        const double d2 = residual2(x, a, x_ref_[i].data());
-        max_d2 = d2 == d2 ? std::max(max_d2, d2) : max_d2;  // a NaN skipped, as Newton does
-      }
-    }
+    const double max_d2 = handed ? moved_max_d2_ : max_residual2(s, a);
 #ifdef MPMDEM_CHECK_MOVED  // debugging: Newton's max against this scan, bit for bit
     if (handed) {
-      double m = 0;
-      for (std::size_t i = 0; i < n; ++i) {
-        const double x[3] = {s.spheres.pos.c[0][i], s.spheres.pos.c[1][i], s.spheres.pos.c[2][i]};
-        const double d2 = residual2(x, a, x_ref_[i].data());
-        m = d2 == d2 ? std::max(m, d2) : m;
-      }
+      const double m = max_residual2(s, a);
       if (std::memcmp(&m, &max_d2, sizeof m) != 0) std::abort();
     }
 #endif
@@ -45,6 +32,16 @@ void NeighbourList::ensure(const RveState& s) {
     if (motion_ < skin_) return;
   }
   rebuild(s);
+}
+
+double NeighbourList::max_residual2(const RveState& s, const Eigen::Matrix3d& a) const {
+  double m = 0;
+  for (std::size_t i = 0; i < x_ref_.size(); ++i) {
+    const double x[3] = {s.spheres.pos.c[0][i], s.spheres.pos.c[1][i], s.spheres.pos.c[2][i]};
+    const double d2 = residual2(x, a, x_ref_[i].data());
+    m = d2 == d2 ? std::max(m, d2) : m;  // a NaN skipped, as Newton's loop does
+  }
+  return m;
 }
 
 void NeighbourList::rebuild(const RveState& s) {

@@ -87,6 +87,8 @@ class NeighbourList {
 
  private:
   void rebuild(const RveState& s);
+  // max_i residual2(x_i, a, x_ref_i) over the spheres (the scan Newton's hand-over saves).
+  double max_residual2(const RveState& s, const Eigen::Matrix3d& a) const;
   // Index of the pair (a, b, c) or (b, a, -c); -1 if the list does not hold it.
   std::int64_t find(std::uint32_t a, std::uint32_t b, const CellDist& c) const;
 

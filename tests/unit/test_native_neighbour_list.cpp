@@ -23,6 +23,12 @@ namespace {
 using namespace mpmdem::dem::native;
 using Key = std::tuple<std::uint32_t, std::uint32_t, int, int, int>;
 
+// The lattice shift that brings a reduced separation f nearest to 0 (the build's rounding).
+Eigen::Vector3i nearest_shift(const Vec3& f) {
+  return {-static_cast<int>(std::lround(f[0])), -static_cast<int>(std::lround(f[1])),
+          -static_cast<int>(std::lround(f[2]))};
+}
+
 // Every overlapping (i < j, image c): |x_j + H c - x_i| < r_i + r_j, images within +-2 cells
 // of the minimum image.
 std::set<Key> all_pairs(const RveState& s) {
@@ -33,9 +39,7 @@ std::set<Key> all_pairs(const RveState& s) {
     for (std::uint32_t j = i + 1; j < sp.size(); ++j) {
       const Vec3 d = sp.pos[j] - sp.pos[i];
       const Vec3 f = hinv * d;
-      const Eigen::Vector3i c0(-static_cast<int>(std::lround(f[0])),
-                               -static_cast<int>(std::lround(f[1])),
-                               -static_cast<int>(std::lround(f[2])));
+      const Eigen::Vector3i c0 = nearest_shift(f);
       const double r = sp.radius[i] + sp.radius[j];
       for (int a = -2; a <= 2; ++a)
         for (int b = -2; b <= 2; ++b)
@@ -113,6 +117,79 @@ TEST(NativeNeighbourList, FindsExactlyTheAllPairsContactsUnderRandomDeformation)
   // Rebuilt more than once (the skin is used up), far less often than every step.
   EXPECT_GE(nl.rebuilds(), 2);
   EXPECT_LT(nl.rebuilds(), steps / 2);
+}
+
+// The list's rows, row by row, as the all-pairs build lists them: for every j > i in
+// ascending order, the images within r_i + r_j + skin among the 27 around the minimum one.
+using Row = std::vector<std::tuple<std::uint32_t, int, int, int>>;
+std::vector<Row> all_pairs_rows(const RveState& s, double skin) {
+  const auto& sp = s.spheres;
+  const Eigen::Matrix3d h = s.cell.hsize, hinv = h.inverse();
+  std::vector<Row> rows(sp.size());
+  for (std::uint32_t i = 0; i < sp.size(); ++i) {
+    for (std::uint32_t j = i + 1; j < sp.size(); ++j) {
+      const Vec3 d = sp.pos[j] - sp.pos[i];
+      const Vec3 f = hinv * d;
+      const Eigen::Vector3i c0 = nearest_shift(f);
+      const Vec3 d0 = d + h * c0.cast<double>();
+      const double cut = sp.radius[i] + sp.radius[j] + skin;
+      for (int a = -1; a <= 1; ++a)
+        for (int b = -1; b <= 1; ++b)
+          for (int c = -1; c <= 1; ++c) {
+            if ((d0 + h * Vec3(a, b, c)).squaredNorm() < cut * cut) {
+              rows[i].emplace_back(j, c0[0] + a, c0[1] + b, c0[2] + c);
+            }
+          }
+    }
+  }
+  return rows;
+}
+
+std::vector<Row> list_rows(const RveState& s, const NeighbourList& nl) {
+  std::vector<Row> rows(s.spheres.size());
+  for (std::uint32_t i = 0; i < s.spheres.size(); ++i) {
+    for (std::size_t p = nl.row_begin(i); p < nl.row_begin(i + 1); ++p) {
+      const Eigen::Vector3i c = nl.pair_cell(p).cast<int>();
+      rows[i].emplace_back(nl.pair_j(p), c[0], c[1], c[2]);
+    }
+  }
+  return rows;
+}
+
+// The build searches only neighbouring bins of the cell's reduced frame, yet lists exactly
+// the pairs of the all-pairs build in its order (what keeps results bit for bit): on clouds
+// of 800 spheres stretched and sheared into long, skewed cells (many bins along one lattice
+// vector, 1-3 along another), every sphere moved by whole periods up to 30 cells from the
+// origin (positions are not wrapped), and on a cell at the other extreme, with one bin.
+TEST(NativeNeighbourList, BinnedBuildListsTheAllPairsBuildsPairsInItsOrder) {
+  std::mt19937_64 rng(5);
+  std::uniform_int_distribution<int> period(-30, 30);
+  const Eigen::Matrix3d stretch = Eigen::Vector3d(4.0, 0.25, 1.0).asDiagonal();
+  Eigen::Matrix3d shear = Eigen::Matrix3d::Identity();
+  shear(0, 1) = 0.7, shear(2, 0) = -0.3;
+  for (const Eigen::Matrix3d& df : {Eigen::Matrix3d(stretch), Eigen::Matrix3d(shear * stretch),
+                                    Eigen::Matrix3d(0.3 * Eigen::Matrix3d::Identity())}) {
+    CloudParams cp;
+    cp.n_spheres = 800;
+    cp.seed = 9;
+    RveState s = build_cloud(cp);
+    s.cell.hsize = df * s.cell.hsize;
+    for (std::size_t i = 0; i < s.spheres.size(); ++i) {
+      const Vec3 shift = s.cell.hsize * Vec3(period(rng), period(rng), period(rng));
+      s.spheres.pos.set(i, df * s.spheres.pos[i] + shift);
+    }
+    NeighbourList nl(0.5);
+    nl.ensure(s);
+    const double r_min = *std::min_element(s.spheres.radius.begin(), s.spheres.radius.end());
+    const std::vector<Row> expected = all_pairs_rows(s, 0.5 * r_min), found = list_rows(s, nl);
+    std::size_t pairs = 0;
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+      ASSERT_EQ(found[i], expected[i]) << "row " << i;
+      pairs += expected[i].size();
+    }
+    EXPECT_EQ(nl.n_pairs(), pairs);
+    EXPECT_GT(pairs, s.spheres.size());  // many pairs (and images) to miss
+  }
 }
 
 // A homogeneous shear of 5 % in 50 increments, every sphere 20-40 periods from the origin

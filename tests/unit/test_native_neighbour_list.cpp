@@ -158,9 +158,10 @@ std::vector<Row> list_rows(const RveState& s, const NeighbourList& nl) {
 
 // The build searches only neighbouring bins of the cell's reduced frame, yet lists exactly
 // the pairs of the all-pairs build in its order (what keeps results bit for bit): on clouds
-// of 800 spheres stretched and sheared into long, skewed cells (many bins along one lattice
-// vector, 1-3 along another), every sphere moved by whole periods up to 30 cells from the
-// origin (positions are not wrapped), and on a cell at the other extreme, with one bin.
+// of 800 spheres stretched and sheared into long, skewed cells (~30 bins along one lattice
+// vector, 2 along another: searched whole), every sphere moved by whole periods up to 30 cells
+// from the origin (positions are not wrapped), and on a small cell (2 bins on every axis:
+// the all-pairs loop itself).
 TEST(NativeNeighbourList, BinnedBuildListsTheAllPairsBuildsPairsInItsOrder) {
   std::mt19937_64 rng(5);
   std::uniform_int_distribution<int> period(-30, 30);

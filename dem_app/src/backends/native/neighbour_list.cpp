@@ -137,8 +137,9 @@ void NeighbourList::rebuild(const RveState& s) {
     for (int a = 0; a < 3; ++a) needed = needed && (steps[k][a] == 0 || height[a] < 2 * cut_all);
     if (needed) tested[n_tested++] = k;
   }
-  std::vector<std::uint32_t> bin_of(n), bin_start, bin_sphere;
+  std::vector<std::uint32_t> bin_of, bin_start, bin_sphere;  // empty when searched whole
   if (!all_bins) {
+    bin_of.resize(n);
     const std::size_t n_bins = static_cast<std::size_t>(nb[0]) * nb[1] * nb[2];
     for (std::size_t i = 0; i < n; ++i) {
       std::uint32_t b = 0;

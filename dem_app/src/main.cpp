@@ -5,6 +5,7 @@
 //          --run-dir DIR [--restore CHECKPOINT_DIR] [--timeout S] [--idle-timeout S]
 //   dem_app --print-backend FILE     coupling.backend of a scene (no MPI; for scripts/run)
 //   dem_app --print-port-file FILE   coupling.port_file of a scene (no MPI; for scripts/run)
+//   dem_app --list-backends          the backends built into this dem_app, one per line
 //
 // Exit codes: 0 after an orderly shutdown, 2 config/command-line error, 3 handshake
 // refused, 4 no client / MPI failure / client aborted.
@@ -38,6 +39,7 @@ constexpr const char* kUsage =
     "              0: wait forever). Open MPI does not report a killed peer.\n"
     "       dem_app --print-backend FILE   print coupling.backend of a scene and exit\n"
     "       dem_app --print-port-file FILE print coupling.port_file of a scene and exit\n"
+    "       dem_app --list-backends        print the backends built into this dem_app\n"
     "Run under mpirun with the same --ompi-server file:URI as mpm_app (see docs/protocol.md).\n";
 
 struct Args {
@@ -154,6 +156,10 @@ int print_key(const std::string& file, const std::string& key) {
 }
 
 int main(int argc, char** argv) {
+  if (argc == 2 && std::string(argv[1]) == "--list-backends") {
+    for (const auto& name : mpmdem::dem::available_backends()) std::cout << name << "\n";
+    return 0;
+  }
   if (argc == 3 && std::string(argv[1]) == "--print-backend") {
     return print_key(argv[2], "coupling.backend");
   }

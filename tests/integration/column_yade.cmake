@@ -1,8 +1,4 @@
 # A minimal multiscale column collapse and its exact resume from a checkpoint (issue 4,
-# items 6-7). Registered only when the YADE backend is built.
-if(MPMDEM_WITH_YADE AND EXISTS /usr/bin/yade AND EXISTS /usr/bin/python3.11-config)
-  add_test(NAME column_yade_tiny_resume COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/column_yade.sh)
-  set_tests_properties(column_yade_tiny_resume PROPERTIES TIMEOUT 600 LABELS "integration;no_asan"
-    ENVIRONMENT "MPMDEM_BIN=${PROJECT_BINARY_DIR};MPMDEM_SRC=${PROJECT_SOURCE_DIR}"
-    RUN_SERIAL TRUE)
-endif()
+# items 6-7). Skipped (reported) where the YADE backend is not built.
+mpmdem_test(NAME column_yade_tiny_resume NEEDS yade COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/column_yade.sh
+            TIMEOUT 600 LABELS integration no_asan SERIAL)

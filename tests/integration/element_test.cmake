@@ -6,39 +6,24 @@
 # script with --backend native (isotropic and drained triaxial paths). Included from
 # tests/CMakeLists.txt; tests/integration/element_test.sh kills every process it starts.
 set(_et ${CMAKE_CURRENT_LIST_DIR}/element_test.sh)
-set(_et_env "MPMDEM_BIN=${PROJECT_BINARY_DIR}" "MPMDEM_SRC=${PROJECT_SOURCE_DIR}")
-set(_et_cases elastic_oedometric elastic_triaxial)
-if(MPMDEM_WITH_YADE AND EXISTS /usr/bin/yade AND EXISTS /usr/bin/python3.11-config)
-  # native_script: the YADE packing is exported to the native format (needs YADE too)
-  list(APPEND _et_cases yade_script native_script)
-endif()
-foreach(_case ${_et_cases})
-  add_test(NAME element_test_${_case} COMMAND bash ${_et} ${_case})
-  set_tests_properties(element_test_${_case} PROPERTIES TIMEOUT 240 LABELS integration
-                       ENVIRONMENT "${_et_env}" RUN_SERIAL TRUE)
+foreach(_case elastic_oedometric elastic_triaxial)
+  mpmdem_test(NAME element_test_${_case} COMMAND bash ${_et} ${_case} TIMEOUT 240 SERIAL)
 endforeach()
-# The native case tests the script's wiring (export, lock, scene); the native C++ is covered
-# by ASan unit tests: normal pass only.
-# So does the YADE case (CI time): the driver's C++ runs under ASan in the elastic cases, the
-# YADE backend's in the YadeBackend units.
-foreach(_case native_script yade_script)
-  if(TEST element_test_${_case})
-    set_tests_properties(element_test_${_case} PROPERTIES LABELS "integration;no_asan")
-  endif()
+# The YADE case runs the real YADE server; the native case exports the YADE packing to the
+# native format (needs YADE too). Normal pass only: the native C++ is covered by ASan unit
+# tests, the driver's C++ by the elastic cases, the YADE backend's by the YadeBackend units.
+foreach(_case yade_script native_script)
+  mpmdem_test(NAME element_test_${_case} NEEDS yade COMMAND bash ${_et} ${_case}
+              TIMEOUT 240 LABELS integration no_asan SERIAL)
 endforeach()
 # scripts/element_seed_study's config and statistics steps (no DEM run): fast, normal pass only
 # (Python only).
-add_test(NAME element_seed_study_steps COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/element_seeds.sh)
-set_tests_properties(element_seed_study_steps PROPERTIES TIMEOUT 60 LABELS "integration;no_asan"
-                     ENVIRONMENT "${_et_env}")
+mpmdem_test(NAME element_seed_study_steps COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/element_seeds.sh
+            TIMEOUT 60 LABELS integration no_asan)
 # scripts/rve_mu_i_study: its config and fit steps (no DEM run; Python only), and the study end
 # to end on 4 of the column's RVEs at three inertial numbers (YADE builds the packings; the
 # friction must rise with I). Normal pass only: the native C++ is covered by ASan units.
-add_test(NAME rve_mu_i_study_steps COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/rve_mu_i.sh steps)
-set_tests_properties(rve_mu_i_study_steps PROPERTIES TIMEOUT 60 LABELS "integration;no_asan"
-                     ENVIRONMENT "${_et_env}")
-if(MPMDEM_WITH_YADE AND EXISTS /usr/bin/yade AND EXISTS /usr/bin/python3.11-config)
-  add_test(NAME rve_mu_i_study_run COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/rve_mu_i.sh run)
-  set_tests_properties(rve_mu_i_study_run PROPERTIES TIMEOUT 300 LABELS "integration;no_asan"
-                       ENVIRONMENT "${_et_env}" RUN_SERIAL TRUE)
-endif()
+mpmdem_test(NAME rve_mu_i_study_steps COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/rve_mu_i.sh steps
+            TIMEOUT 60 LABELS integration no_asan)
+mpmdem_test(NAME rve_mu_i_study_run NEEDS yade COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/rve_mu_i.sh run
+            TIMEOUT 300 LABELS integration no_asan SERIAL)

@@ -4,6 +4,22 @@
 // pending after a burst (its mean rate).
 #include <gtest/gtest.h>
 
+#include <set>
+#include <string>
+
+// The tests of this file, by name: a build without the YADE backend registers the same names,
+// each skipped, so that the test list is the same on every machine (and CTest reports them
+// skipped, not passed); ListMatchesTheBuildWithoutYade keeps the list equal to the tests.
+#define MPMDEM_YADE_BACKEND_TESTS(X)             \
+  X(InitialStateIsConsolidatedToRveInitPressure) \
+  X(StiffnessBoundsMeasuredConstrainedModulus)   \
+  X(CellTransformationEqualsProductOfIncrements) \
+  X(RateRuleTakesTheUpdatesDtOverTheDemStep)     \
+  X(ThinCellIsTiledAndStaysExact)                \
+  X(RestoreReproducesStressesAfterCheckpoint)    \
+  X(LostContactsGiveZeroStressAndFlagNeverNaN)   \
+  X(ListMatchesTheBuildWithoutYade)
+
 #ifdef MPMDEM_HAVE_YADE
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
@@ -322,10 +338,29 @@ TEST_F(YadeBackend, LostContactsGiveZeroStressAndFlagNeverNaN) {
   EXPECT_EQ(reply[1].status, static_cast<int>(protocol::RveStatus::kNoContacts));
 }
 
+TEST_F(YadeBackend, ListMatchesTheBuildWithoutYade) {
+  const testing::TestSuite* suite = nullptr;
+  const auto* unit = testing::UnitTest::GetInstance();
+  for (int i = 0; i < unit->total_test_suite_count(); ++i) {
+    if (std::string(unit->GetTestSuite(i)->name()) == "YadeBackend") suite = unit->GetTestSuite(i);
+  }
+  ASSERT_NE(suite, nullptr);
+  std::set<std::string> registered, listed;
+  for (int i = 0; i < suite->total_test_count(); ++i)
+    registered.insert(suite->GetTestInfo(i)->name());
+#define MPMDEM_LIST_NAME(name) listed.insert(#name);
+  MPMDEM_YADE_BACKEND_TESTS(MPMDEM_LIST_NAME)
+#undef MPMDEM_LIST_NAME
+  EXPECT_EQ(registered, listed) << "add the test's name to MPMDEM_YADE_BACKEND_TESTS";
+}
+
 }  // namespace
 
 #else
-TEST(YadeBackend, NotBuilt) {
-  GTEST_SKIP() << "configure with -DMPMDEM_WITH_YADE=ON";
-}
+#define MPMDEM_SKIPPED_TEST(name)                                                 \
+  TEST(YadeBackend, name) {                                                       \
+    GTEST_SKIP() << "dem_app was built without the YADE backend (configure with " \
+                    "-DMPMDEM_WITH_YADE=ON; needs python3.11-dev and yade)";      \
+  }
+MPMDEM_YADE_BACKEND_TESTS(MPMDEM_SKIPPED_TEST)
 #endif

@@ -5,9 +5,12 @@ Run by native_vs_yade.sh under Debian's /usr/bin/python3 (YADE as a module):
 Builds a 40-sphere Table 1 packing at 10 kPa with YADE, saves it (.yade.bz2) and exports it
 (.native.txt); then the YADE backend's RveSet (mpmdem_rve.py) and native_replay each load it,
 initialise it without consolidation (zero RveInit stress: the packing's own state after the
-two preparation steps) and apply the same 10 random increments (|dF - I| ~ 1e-5, typical of the column) at ns = 10. Checks: initial
-stress equal to 1e-9 relative, stresses of the 10 steps to 1e-6 relative (relative to the
-largest stress component). Prints every step's difference.
+two preparation steps) and apply the same 10 random increments (|dF - I| ~ 1e-5, typical of
+the column) at ns = 10. Checks, relative to the largest stress component: the initial stress
+equal to 1e-12 and the stresses of the 10 steps to 1e-10. The two backends evaluate the same
+formulas, mostly in the same order: measured 1.7e-13 and 7.4e-12 (docs/dem_backend.md), so a
+change of the contact law or the integrator at the level of 1e-9 fails. Prints every step's
+difference.
 """
 import json
 import os
@@ -67,7 +70,8 @@ for n, (a, b) in enumerate(zip(yade, native)):
         worst_init = err
     else:
         worst_steps = max(worst_steps, err)
-ok = worst_init < 1e-9 and worst_steps < 1e-6
-print("initial stress rel diff %.3g (< 1e-9), steps 1-10 max rel diff %.3g (< 1e-6): %s"
-      % (worst_init, worst_steps, "PASS" if ok else "FAIL"))
+TOL_INIT, TOL_STEPS = 1e-12, 1e-10
+ok = worst_init < TOL_INIT and worst_steps < TOL_STEPS
+print("initial stress rel diff %.3g (< %g), steps 1-10 max rel diff %.3g (< %g): %s"
+      % (worst_init, TOL_INIT, worst_steps, TOL_STEPS, "PASS" if ok else "FAIL"))
 sys.exit(0 if ok else 1)

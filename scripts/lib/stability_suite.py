@@ -243,6 +243,8 @@ def mpm_case(case, out, env, timeout):
         t, a = last_frame(run_dir)
         if "velocity" in a:
             vz = a["velocity"][:, 2]
+            r["rebound_v"] = float(vz.mean())
+            r["E_k_final_over_E_ref"] = summ.get("E_k_J", float("nan")) / r["E_ref"]
             r["notes"].append("last frame t = %.4g s: mean v_z %.4g m/s (rebound; impact at -50), "
                               "v_z %.4g..%.4g m/s, E_k/E_ref %.3g" % (
                                   t, vz.mean(), vz.min(), vz.max(),

@@ -169,6 +169,7 @@ class Run {
       column_->restore(resumed_.column);
     }
     sum.model = solver_->provider().name();
+    sum.resumed_from_step = solver_->step_count();
     sum.mass_initial_kg = resumed_.mass_initial_kg;
     sum.step_wall_time_s = resumed_.step_wall_time_s;
     sum.step_cpu_time_s = resumed_.step_cpu_time_s;
@@ -339,6 +340,7 @@ class Run {
     const auto wall_start = std::chrono::steady_clock::now();
     const double cpu_start = process_cpu_time();
     solver_->step();
+    ++s().steps_this_run;
     s().step_wall_time_s +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     s().step_cpu_time_s += process_cpu_time() - cpu_start;
@@ -433,6 +435,7 @@ class Run {
     sum.removed_points = solver_->removed_points();
     sum.n_material_points = p.size() + sum.removed_points;
     sum.mass_final_kg = total_mass(p);
+    sum.mass_grid_kg = total_mass(solver_->grid());
     if (!(sum.dt_min_s <= sum.dt_max_s)) sum.dt_min_s = sum.dt_max_s = 0.0;
     const Energies e = solver_->energies();
     sum.E_p0_J = solver_->initial_potential_energy();

@@ -82,6 +82,12 @@ double total_mass(const Particles& p) {
   return m;
 }
 
+double total_mass(const Grid& g) {
+  double m = 0.0;
+  for (double m_i : g.m_i) m += m_i;
+  return m;
+}
+
 namespace {
 
 bool finite(const Vec3& v) {
@@ -159,6 +165,7 @@ std::vector<std::pair<std::string, double>> remote_figures(Solver& solver,
                                                            std::int64_t rve_particles) {
   ConstitutiveProvider& provider = solver.provider();
   return {{"n_rve_particles", static_cast<double>(rve_particles)},
+          {"dem_ranks", static_cast<double>(provider.dem_ranks())},
           {"rebalances", static_cast<double>(provider.rebalances())},
           {"rve_evaluations", static_cast<double>(provider.rve_evaluations())},
           {"rve_skipped", static_cast<double>(provider.rve_skipped())},

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "grid.hpp"
 #include "particles.hpp"
 #include "scene.hpp"
 
@@ -38,6 +39,8 @@ class SignalGuard {
 const char* model_name(ModelKind kind);
 const char* verification_name(VerificationKind kind);
 double total_mass(const Particles& p);
+// Sum of the node masses m_i (after a P2G: the mass the grid carries).
+double total_mass(const Grid& g);
 // Names the first non-finite value of the state, or returns "" if all are finite.
 std::string find_non_finite(const Particles& p);
 // CPU time of the whole process (all threads) [s].

@@ -44,7 +44,37 @@ resume_from() {
     ((n > step)) && rm -rf "$d"
   done
   rm -f "$copy/summary.json" "$copy/final_state.h5"
+  local from
+  from=$(newest_checkpoint_step "$copy")
   run_job "$log" --resume "$copy" --dem-ranks "$ranks" "$@"
+  check_resumed "$copy" "$from"
+}
+
+# newest_checkpoint_step RUN: the step of RUN's newest complete checkpoint (the one
+# scripts/run --resume continues from), -1 if none.
+newest_checkpoint_step() {
+  local d n newest=-1
+  for d in "$1"/checkpoints/step_*; do
+    [[ -f $d/COMPLETE ]] || continue
+    n=$((10#${d##*step_}))
+    ((n > newest)) && newest=$n
+  done
+  echo "$newest"
+}
+
+# check_resumed RUN STEP: RUN's summary.json says it resumed from STEP and ran its remaining
+# steps itself (a fresh re-run of deterministic code would end in the same state, so an equal
+# end state alone does not show a resume); on failure exit 1.
+check_resumed() {
+  /usr/bin/python3 - "$1/summary.json" "$2" <<'PY' || exit 1
+import json, sys
+s, step = json.load(open(sys.argv[1])), int(sys.argv[2])
+got = s.get("resumed_from_step")
+if got != step or s.get("steps_after_resume") != s["steps"] - step or s["steps"] <= step:
+    sys.exit("FAIL: %s: resumed_from_step %s (expected %d), steps_after_resume %s, steps %s"
+             % (sys.argv[1], got, step, s.get("steps_after_resume"), s["steps"]))
+print("resumed from step %d, %d steps after it" % (step, s["steps_after_resume"]))
+PY
 }
 
 # Processes a test starts in the background, each stopped by its PID when the script exits,

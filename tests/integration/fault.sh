@@ -85,8 +85,11 @@ print("ok: summary.json status failed:", s["error"][:100])
 PY
 [[ -e $work/killed/final_state.h5 ]] && fail "the killed run left a final_state.h5 (half-written result presented as whole)"
 
-# 2. Resume it, and run the same scene without interruption.
+# 2. Resume it (from its newest complete checkpoint), and run the same scene without
+# interruption.
+newest=$(newest_checkpoint_step "$work/killed")
 run_job "$work/resumed.log" --resume "$work/killed" --dem-ranks 2
+check_resumed "$work/killed" "$newest"
 run_job "$work/full.log" "$work/scene.yaml" --out "$work/full" --dem-ranks 2
 /usr/bin/python3 - "$work/full" "$work/killed" <<'PY' || fail "resumed end state differs"
 import json, sys

@@ -101,7 +101,7 @@ for k in ("x", "v", "stress", "F", "mass"):
 lb, plain, res = (json.load(open(f"{w}/{n}/summary.json")) for n in ("lb", "plain", "resumed"))
 for s in (lb, plain, res):
     assert s["status"] == "complete", s["status"]
-    assert s["mass_final_kg"] == s["mass_initial_kg"] and s["removed_points"] == 0
+    assert abs(s["mass_grid_kg"] - s["mass_initial_kg"]) <= 1e-12 * s["mass_initial_kg"] and s["removed_points"] == 0
 # How many migrations happen depends on the measured RVE costs: on an idle machine the costs
 # are steady and the 8 RVEs may find their best partition in one move (step 227, imbalance
 # 1.29 -> 1.13, 2026-11-26), under load the partition flips more often.

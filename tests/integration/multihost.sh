@@ -208,10 +208,13 @@ compgen -G "$work/cut/checkpoints/step_*/COMPLETE" >/dev/null && ok "the complet
 [[ -e $work/cut/final_state.h5 ]] && fail "the cut run left a final_state.h5"
 no_process_left "after the cut"
 
-# 3. Resume on hosts A and C, both DEM ranks on C (B stays cut off).
+# 3. Resume on hosts A and C, both DEM ranks on C (B stays cut off), from the newest complete
+# checkpoint.
+newest=$(newest_checkpoint_step "$work/cut")
 if run_on_a "$C" --resume "$work/cut" --dem-ranks 2 --mpm-hosts "$A" --dem-hosts "$C:2" >"$work/resumed.log" 2>&1; then
   ok "scripts/run --resume on hosts A | C finished"
   same_state "$work/cut" "the run resumed on hosts A | C" || fail "resumed end state"
+  (check_resumed "$work/cut" "$newest") || fail "the run on hosts A | C did not resume from step $newest"
 else
   fail "scripts/run --resume on hosts A | C failed"
   tail -n 40 "$work/resumed.log" >&2

@@ -1,6 +1,7 @@
 // The column collapse with the local Drucker-Prager model (configs/column_collapse_mc.yaml,
 // 240 points, < 1 s per run): conservation, dissipation, a deposit at rest inside the domain,
-// runout and height in the published bands, the friction angle's effect, the at-rest stop
+// runout in the published band and a height between the wedge bound and the measured one, the
+// friction angle's effect, the at-rest stop
 // (column_collapse.at_rest) against the full 6 t*, and checkpoints from which a resumed run
 // ends in exactly the uninterrupted state, also inside the at-rest hold.
 #include <gtest/gtest.h>
@@ -71,15 +72,15 @@ double figure(const RunSummary& s, const std::string& key) {
 
 }  // namespace
 
-TEST(ColumnCollapse, LocalModelConservesMassDissipatesAndSettlesInTheBands) {
+TEST(ColumnCollapse, LocalModelConservesMassDissipatesAndRunsOutInTheLawsBand) {
   TempDir dir("mc");
   const Scene scene = mc_scene();
   const ColumnRun r = run(scene, dir.str());
   ASSERT_EQ(r.result.exit_code, 0);
   const RunSummary& s = r.result.summary;
-  // Mass: m_p never changes and no point may leave.
+  // Mass: no point may leave, and the grid carried all of it at the last step.
   EXPECT_EQ(s.removed_points, 0u);
-  EXPECT_EQ(s.mass_final_kg, s.mass_initial_kg);
+  EXPECT_NEAR(s.mass_grid_kg, s.mass_initial_kg, 1e-12 * s.mass_initial_kg);
   const Grid grid(scene.grid);
   for (const auto& x : r.final_state.x) ASSERT_TRUE(grid.contains(x)) << x.transpose();
   // Stage 1 ended by its own rule, stage 2 by the at-rest stop, between min_t_star and 6 t*.
@@ -114,13 +115,15 @@ TEST(ColumnCollapse, LocalModelConservesMassDissipatesAndSettlesInTheBands) {
   // 0.78 m on 0.11 m cells and fell with every refinement; docs/transfers.md, "The shape").
   // Instead: the deposit holds the column (no plastic dilation): a granular deposit lies
   // below the straight wedge from H_f at the back wall to its front, so L_f H_f / 2 >= L_i H_i
-  // (2 % for the elastic compression), and it stands below the laws' upper edge (+10 %).
+  // (2 % for the elastic compression: 0.527 m here), and it stands at most 10 % above what
+  // this scene measured (0.579 m, 2026-11-28; 0.55 m on the finest cells): a column that
+  // does not collapse, or collapses less, fails.
   const double dL = figure(s, "runout_normalized");
   EXPECT_GE(dL, 2.88);
   EXPECT_LE(dL, 4.32);
   const double H_f = figure(s, "final_height_m");
   EXPECT_GE(H_f, 0.98 * 2.0 * g.L_i * g.H_i / figure(s, "runout_m"));
-  EXPECT_LE(H_f, 1.1 * g.L_i * std::pow(2.4, 0.4));
+  EXPECT_LE(H_f, 1.1 * 0.579);
   // Per-phase timing: one row per step, phases inside the step's wall time, no DEM side.
   std::ifstream timings(dir.str() + "/timings.csv");
   std::string row;
@@ -344,12 +347,14 @@ void resumed_run_ends_in_the_uninterrupted_state(Scene scene) {
   // window and stop at the same step.
   fs::copy(full.path(), part.path(), fs::copy_options::recursive);
   std::string ckpt;
+  std::int64_t ckpt_step = -1;
   for (std::int64_t step = 100; step < a.result.summary.steps; step += 100) {
     SolverState state;
     DriverState driver;
     read_mpm_checkpoint(checkpoint_directory(part.str(), step), state, driver);
     if (driver.column.rest_quiet_since) {
       ckpt = checkpoint_directory(part.str(), step);
+      ckpt_step = step;
       EXPECT_FALSE(driver.column.rest_time.has_value());
       break;
     }
@@ -357,6 +362,12 @@ void resumed_run_ends_in_the_uninterrupted_state(Scene scene) {
   ASSERT_FALSE(ckpt.empty()) << "no checkpoint inside the at-rest hold";
   const ColumnRun b = run(scene, part.str(), ckpt);
   ASSERT_EQ(b.result.exit_code, 0);
+  // It resumed (a fresh re-run of this deterministic scene would end in the same state): from
+  // the checkpoint's step, running only the steps after it.
+  EXPECT_EQ(a.result.summary.resumed_from_step, -1);
+  EXPECT_EQ(b.result.summary.resumed_from_step, ckpt_step);
+  EXPECT_EQ(b.result.summary.steps_this_run, a.result.summary.steps - ckpt_step);
+  EXPECT_EQ(a.result.summary.steps_this_run, a.result.summary.steps);
   ASSERT_EQ(a.final_state.size(), b.final_state.size());
   for (std::size_t q = 0; q < a.final_state.size(); ++q) {
     ASSERT_EQ(a.final_state.x[q], b.final_state.x[q]) << "point " << q;

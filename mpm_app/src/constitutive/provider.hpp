@@ -61,6 +61,8 @@ class ConstitutiveProvider {
   }
   // Particles in all RVEs at initialisation (remote; 0 for local models).
   virtual std::int64_t rve_particles() const { return 0; }
+  // DEM server ranks this process is coupled to (remote; 0 for local models).
+  virtual int dem_ranks() const { return 0; }
   // Load-balance migrations so far in this process (remote; coupling.load_balance).
   virtual std::int64_t rebalances() const { return 0; }
   // Lazy RVE evaluation (remote; coupling.lazy_tolerance): RVE runs and skipped runs so far

@@ -124,6 +124,7 @@ class RemoteProvider : public ConstitutiveProvider {
     return true;
   }
 
+  int dem_ranks() const override { return client_.server_ranks(); }
   std::int64_t rebalances() const override { return balancer_.rebalances(); }
   std::int64_t rve_evaluations() const override { return lazy_.evaluations(); }
   std::int64_t rve_skipped() const override { return lazy_.skipped(); }

@@ -98,6 +98,11 @@ std::string to_json(const RunSummary& s) {
   w.num("step_wall_time_s", s.step_wall_time_s);
   w.num("step_cpu_time_s", s.step_cpu_time_s);
   w.integer("steps", s.steps);
+  // A resumed run: the checkpoint's step, and the steps this process ran after it.
+  if (s.resumed_from_step >= 0) {
+    w.integer("resumed_from_step", s.resumed_from_step);
+    w.integer("steps_after_resume", s.steps_this_run);
+  }
   w.integer("n_material_points", static_cast<long long>(s.n_material_points));
   w.integer("removed_points", static_cast<long long>(s.removed_points));
   w.integer("threads", s.threads);
@@ -111,6 +116,7 @@ std::string to_json(const RunSummary& s) {
   w.num("dt_max_s", s.dt_max_s);
   w.num("mass_initial_kg", s.mass_initial_kg);
   w.num("mass_final_kg", s.mass_final_kg);
+  w.num("mass_grid_kg", s.mass_grid_kg);
   w.num("E_p0_J", s.E_p0_J);
   w.num("E_p_J", s.E_p_J);
   w.num("E_k_J", s.E_k_J);

@@ -50,6 +50,8 @@ struct RunSummary {
   double step_wall_time_s = 0.0;
   double step_cpu_time_s = 0.0;
   std::int64_t steps = 0;
+  std::int64_t resumed_from_step = -1;  // the checkpoint's step of a resumed run; -1: fresh
+  std::int64_t steps_this_run = 0;      // steps this process ran (counted, not derived)
   std::size_t n_material_points = 0;
   std::size_t removed_points = 0;
   int threads = 1;
@@ -59,6 +61,7 @@ struct RunSummary {
   double dt_max_s = 0.0;
   double mass_initial_kg = 0.0;
   double mass_final_kg = 0.0;
+  double mass_grid_kg = 0.0;  // the grid's mass after the last step's P2G (0: no step run)
   double E_p0_J = 0.0;
   double E_p_J = 0.0;
   double E_k_J = 0.0;

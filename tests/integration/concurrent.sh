@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
-# Many runs at once (issue 16, item 4): two scripts/run of one scene started together from
-# one checkout, without --out, must both finish, each in its own run directory (default
-# names, made unique in the same second), with their own ompi-server, port file and logs,
-# and end in the same state (same scene, same arithmetic).
-#   elastic: configs/elastic_column_remote.yaml (shortened), dem_app --backend elastic.
+# Many runs at once (issue 16, item 4): two scripts/run started together from one checkout,
+# without --out, must both finish, each in its own run directory (default names, made unique
+# in the same second), with their own ompi-server, port file and logs.
+#   elastic: configs/elastic_column_remote.yaml (shortened), dem_app --backend elastic, as two
+#            scenes of the same file name that differ in E (1e7 and 2e7 Pa): each run must
+#            end with its own closed-form settlement (a run coupled to the other run's server
+#            would be refused by the handshake or settle by the other E), and the two
+#            settlements must differ by the factor 2 of E.
 #   yade:    the tiny multiscale column (30 steps) with a packing library that does not
 #            exist yet: it must be built once (flock in scripts/lib/ensure_packings.py), not
 #            twice. The two runs use 2 and 1 DEM ranks (the same end state: the partition
@@ -26,8 +29,15 @@ fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
 ok() { echo "ok: $*"; }
 
 extra=()
+scenes=("$work/scene.yaml" "$work/scene.yaml")
 if [[ $case_name == elastic ]]; then
-  sed -e 's/^  end_time: .*/  end_time: 0.1/' "$src/configs/elastic_column_remote.yaml" >"$work/scene.yaml"
+  for k in 1 2; do
+    mkdir -p "$work/$k"
+    sed -e 's/^  end_time: .*/  end_time: 0.1/' -e "s/^    youngs_modulus: 1.0e7/    youngs_modulus: ${k}.0e7/" \
+      "$src/configs/elastic_column_remote.yaml" >"$work/$k/scene.yaml"
+    grep -q "^    youngs_modulus: ${k}.0e7" "$work/$k/scene.yaml" || { echo "FAIL: scene edit" >&2; exit 1; }
+    scenes[k - 1]=$work/$k/scene.yaml
+  done
   extra=()
 else
   # A packing library that does not exist yet, built from the spec by the runs themselves.
@@ -41,7 +51,7 @@ export MPMDEM_RUNS_DIR=$work/runs
 for k in 1 2; do
   ranks=1
   [[ $case_name == yade ]] && ranks=$((3 - k))  # run 1 on 2 ranks, run 2 on 1
-  bg_start "$work/run$k.log" "$src/scripts/run" "$work/scene.yaml" --dem-ranks $ranks "${extra[@]}"
+  bg_start "$work/run$k.log" "$src/scripts/run" "${scenes[k - 1]}" --dem-ranks $ranks "${extra[@]}"
 done
 for k in 1 2; do
   rc=0
@@ -59,20 +69,38 @@ if [[ $case_name == yade ]]; then
   n=$(find "$work/packings" -name '*.yade.bz2' | wc -l)
   ((n == 4)) && ok "$n packings in the library" || fail "$n packings in the library, expected 4"
 fi
-if ((${#dirs[@]} == 2)); then
-  /usr/bin/python3 - "${dirs[@]}" "$case_name" <<'PY' || fail "the two runs differ or are not physical"
+if [[ $case_name == elastic ]] && ((${#dirs[@]} == 2)); then
+  /usr/bin/python3 - "${dirs[@]}" <<'PY' || fail "a run did not end with its own scene's physics"
+import json, sys
+runs = {}
+for d in sys.argv[1:3]:
+    s = json.load(open(d + "/summary.json"))
+    assert s["status"] == "complete", (d, s["status"])
+    E = 1e7 if s["config_file"].endswith("/1/scene.yaml") else 2e7
+    v = s["verification"]
+    # Closed form at t = 0.1 s of the damped column (measured 1.8 % and 0.5 %).
+    assert v["settlement_rel_error"] < 0.03 and v["stress_rel_error"] < 0.03, (d, v)
+    log = open(d + "/logs/mpm_app.log.cmd").read()
+    assert f"file:{d}/logs/ompi-server.uri" in log, log  # its own ompi-server
+    runs[E] = v["settlement_top_m"]
+assert set(runs) == {1e7, 2e7}, runs
+ratio = runs[1e7] / runs[2e7]
+assert abs(ratio - 2.0) < 0.06, ratio
+print(f"ok: both complete, each settled by its own E (settlement ratio {ratio:.3f}); own ompi-server each")
+PY
+fi
+if [[ $case_name == yade ]] && ((${#dirs[@]} == 2)); then
+  /usr/bin/python3 - "${dirs[@]}" <<'PY' || fail "the two runs differ or are not physical"
 import json, sys
 import h5py, numpy as np
-a_dir, b_dir, case = sys.argv[1:4]
+a_dir, b_dir = sys.argv[1:3]
 sa, sb = (json.load(open(d + "/summary.json")) for d in (a_dir, b_dir))
-want = "complete" if case == "elastic" else "truncated"
+want = "truncated"
 assert sa["status"] == sb["status"] == want, (sa["status"], sb["status"])
 assert sa["steps"] == sb["steps"] > 0, (sa["steps"], sb["steps"])
 a, b = h5py.File(a_dir + "/final_state.h5"), h5py.File(b_dir + "/final_state.h5")
-if case == "elastic":  # the column loads its base: sigma_zz < 0 there
-    assert a["stress"][:].reshape(-1, 9)[:, 8].min() < -1.0e4
-else:  # the tiny column holds its weight: every vertical stress compressive
-    assert (a["stress"][:].reshape(-1, 9)[:, 8] < 0).all()
+# the tiny column holds its weight: every vertical stress compressive
+assert (a["stress"][:].reshape(-1, 9)[:, 8] < 0).all()
 for k in ["x", "v", "stress"]:
     d = np.abs(a[k][:] - b[k][:]).max()
     assert d == 0.0, f"{k} differs by {d}"

@@ -232,8 +232,8 @@ def write_report(run_dir, s, made, rot_note, thin):
         "quasi-2D laws (dL/L_i = 1.2 a, H_f/L_i = a^(2/5)), not digitised data.",
         "",
         "The paper's column (configs/column_collapse_paper.yaml) is 3D, 0.45 m wide, with "
-        "0.05 m cells and 800-sphere RVEs; compare like with like (README: what the default "
-        "scene leaves out).",
+        "0.05 m cells and 800-sphere RVEs; compare like with like (docs/column_collapse.md: what "
+        "the default scene leaves out).",
         "",
     ]
     tmp = os.path.join(run_dir, "report.md.tmp")

@@ -194,6 +194,14 @@ CASES = {
     "packing_spec_without_packing_dir": ("yade_inline", "reference: packing_spec needs a "
                                          "packing_dir", "coupling.yade.packing_spec",
                                          {"coupling.yade.packing_spec": "packings/x.yaml"}),
+    "packings_not_in_library": ("native", "reference (files): the named packings exist in "
+                                "packing_dir, or a packing_spec builds them",
+                                "coupling.native.packings",
+                                {"coupling.native.packing_dir": "/nonexistent/packings"}),
+    "packing_spec_file_missing": ("native", "reference (files): a packing_spec that must build "
+                                  "missing packings exists", "coupling.native.packing_spec",
+                                  {"coupling.native.packing_dir": "/nonexistent/packings",
+                                   "coupling.native.packing_spec": "no_such_spec.yaml"}),
     "consolidation_on_failure_unknown": ("native", "coupling.native.consolidation_on_failure "
                                          "is error or warn",
                                          "coupling.native.consolidation_on_failure",

@@ -48,6 +48,7 @@
 #include <string>
 #include <vector>
 
+#include "coupling_rules.hpp"
 #include "coupling_schema.hpp"
 #include "mpmdem/config_hash.hpp"
 #include "mpmdem/connection.hpp"

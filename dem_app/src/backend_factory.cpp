@@ -19,11 +19,22 @@ std::vector<std::string> available_backends() {
 #endif
 }
 
-std::uint32_t backend_outputs(const std::string& name) {
-  if (name == "elastic") return kElasticOutputs;
-  // A DEM packing defines every output of the protocol.
-  if (name == "yade" || name == "native") return protocol::kKnownOutputs;
-  return 0;
+namespace {
+std::string available_text() {
+  std::string names;
+  for (const auto& n : available_backends()) names += (names.empty() ? "" : ", ") + n;
+  return names;
+}
+}  // namespace
+
+void check_backend_available(const config::Config& cfg) {
+  const std::string name = cfg.string("coupling.backend");
+  for (const auto& n : available_backends()) {
+    if (n == name) return;
+  }
+  cfg.fail("coupling.backend",
+           name + " is not built into this dem_app (available: " + available_text() +
+               "); configure with -DMPMDEM_WITH_YADE=ON, or choose one of them");
 }
 
 std::unique_ptr<RveBackend> make_backend(const std::string& name, const config::Config& cfg,
@@ -34,8 +45,7 @@ std::unique_ptr<RveBackend> make_backend(const std::string& name, const config::
 #ifdef MPMDEM_HAVE_YADE
   if (name == "yade") return make_yade_backend(cfg, ctx);
 #endif
-  std::string names;
-  for (const auto& n : available_backends()) names += (names.empty() ? "" : ", ") + n;
+  const std::string names = available_text();
   if (name == "yade") {
     throw std::invalid_argument(
         "backend 'yade' is not built into this dem_app (configure with -DMPMDEM_WITH_YADE=ON); "

@@ -14,9 +14,10 @@ namespace mpmdem::dem {
 
 // Backend names this build offers, e.g. {"elastic", "yade"}.
 std::vector<std::string> available_backends();
-// protocol::OutputBits the named backend can compute (the server advertises them in its
-// Hello; the handshake refuses a scene asking for more).
-std::uint32_t backend_outputs(const std::string& name);
+// coupling.backend of `cfg` is one of available_backends(); throws config::ConfigError
+// naming the key and the backends of this build. (What each backend computes:
+// backend_outputs() in coupling_rules.hpp.)
+void check_backend_available(const config::Config& cfg);
 // Throws std::invalid_argument naming the available backends if `name` is not one.
 std::unique_ptr<RveBackend> make_backend(const std::string& name, const config::Config& cfg,
                                          const BackendContext& ctx);

@@ -26,12 +26,14 @@ void add_coupling_keys(config::Schema& s) {
             .def("elastic")
             .one_of({"elastic", "yade", "native"}));
   s.add(key("coupling.outputs", Type::kStringList, "",
-            "per-RVE outputs the server computes and returns (only these)")
+            "per-RVE outputs the server computes and returns (only these; only outputs the "
+            "backend computes: none for elastic)")
             .def("[]")
             .one_of({kOutputNames[0], kOutputNames[1], kOutputNames[2], kOutputNames[3]}));
   s.add(key("coupling.service_name", Type::kString, "",
             "name the server publishes its MPI port under (ompi-server)")
-            .def("mpmdem"));
+            .def("mpmdem")
+            .not_empty());
   s.add(key("coupling.connect_timeout_s", Type::kDouble, "s",
             "how long mpm_app waits for the server before giving up")
             .def("60")
@@ -46,7 +48,8 @@ void add_coupling_keys(config::Schema& s) {
   s.add(key("coupling.port_file", Type::kString, "",
             "file holding the server's MPI port name, relative to the run directory; "
             "removed when the server closes")
-            .def("dem_port.txt"));
+            .def("dem_port.txt")
+            .not_empty());
   s.add(key("coupling.lazy_tolerance", Type::kDouble, "-",
             "lazy RVE evaluation: an RVE whose accumulated dF since its last evaluation "
             "differs from the identity by at most this (largest |dF_acc - I| component) is "
@@ -106,25 +109,28 @@ std::string coupling_canonical_text(const config::Config& cfg) {
   return cfg.canonical_text("coupling");
 }
 
+std::uint32_t coupling_output_bit(const std::string& name) {
+  for (std::uint32_t i = 0; i < 4; ++i) {
+    if (name == kOutputNames[i]) return 1u << i;
+  }
+  return 0;
+}
+
+std::string coupling_output_names(std::uint32_t bits) {
+  std::string names;
+  for (std::uint32_t i = 0; i < 4; ++i) {
+    if (bits & (1u << i)) names += (names.empty() ? "" : ", ") + std::string(kOutputNames[i]);
+  }
+  return names.empty() ? "none" : names;
+}
+
 std::uint32_t coupling_output_bits(const config::Config& cfg) {
   std::uint32_t bits = 0;
-  for (const std::string& name : cfg.strings("coupling.outputs")) {
-    for (std::uint32_t i = 0; i < 4; ++i) {
-      if (name == kOutputNames[i]) bits |= 1u << i;
-    }
-  }
+  for (const std::string& name : cfg.strings("coupling.outputs")) bits |= coupling_output_bit(name);
   static_assert(protocol::kOutputRotation == 1u << 0 && protocol::kOutputPorosity == 1u << 1 &&
                 protocol::kOutputCoordination == 1u << 2 &&
                 protocol::kOutputUnbalancedForce == 1u << 3 && protocol::kKnownOutputs == 0xFu);
   return bits;
-}
-
-void check_coupling(const config::Config& cfg) {
-  if (cfg.string("coupling.backend") == "elastic" && !cfg.has("coupling.elastic")) {
-    cfg.fail("coupling.backend",
-             "is elastic but the section coupling.elastic (youngs_modulus, poisson_ratio) is "
-             "missing");
-  }
 }
 
 }  // namespace mpmdem

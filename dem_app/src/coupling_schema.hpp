@@ -21,8 +21,10 @@ const config::Schema& coupling_schema();
 std::string coupling_canonical_text(const config::Config& cfg);
 // coupling.outputs as protocol::OutputBits.
 std::uint32_t coupling_output_bits(const config::Config& cfg);
-// Cross-key checks of the section (e.g. backend elastic needs coupling.elastic); throws
-// config::ConfigError naming the key, file and line.
-void check_coupling(const config::Config& cfg);
+// The bit of one output name ("porosity"), 0 for an unknown name.
+std::uint32_t coupling_output_bit(const std::string& name);
+// The names of a set of output bits, "rotation, porosity" ("none" for 0).
+std::string coupling_output_names(std::uint32_t bits);
+// The rules between keys of the section: coupling_rules.hpp.
 
 }  // namespace mpmdem

@@ -3,6 +3,8 @@
 //
 //   mpirun --ompi-server file:URI -np N dem_app --backend elastic|native|yade --scene FILE
 //          --run-dir DIR [--restore CHECKPOINT_DIR] [--timeout S] [--idle-timeout S]
+//   dem_app --check-config FILE      validate the scene's coupling: section as the server would
+//                                    (no MPI; for scripts/run, before anything runs)
 //   dem_app --print-backend FILE     coupling.backend of a scene (no MPI; for scripts/run)
 //   dem_app --print-port-file FILE   coupling.port_file of a scene (no MPI; for scripts/run)
 //   dem_app --list-backends          the backends built into this dem_app, one per line
@@ -19,6 +21,7 @@
 #include <string>
 
 #include "backend_factory.hpp"
+#include "coupling_rules.hpp"
 #include "coupling_schema.hpp"
 #include "mpmdem/config_hash.hpp"
 #include "mpmdem/connection.hpp"
@@ -37,6 +40,7 @@ constexpr const char* kUsage =
     "  --timeout   seconds to wait for mpm_app (default coupling.connect_timeout_s)\n"
     "  --idle-timeout  exit if mpm_app sends nothing for this long (default 600 s;\n"
     "              0: wait forever). Open MPI does not report a killed peer.\n"
+    "       dem_app --check-config FILE    validate the scene's coupling: section and exit\n"
     "       dem_app --print-backend FILE   print coupling.backend of a scene and exit\n"
     "       dem_app --print-port-file FILE print coupling.port_file of a scene and exit\n"
     "       dem_app --list-backends        print the backends built into this dem_app\n"
@@ -51,6 +55,16 @@ struct Args {
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+// The scene's `coupling:` section, validated as the server uses it: the schema, the rules
+// between its keys (coupling_rules.hpp) and a backend built into this dem_app. Throws
+// config::ConfigError.
+mpmdem::config::Config load_coupling(const std::string& file) {
+  auto cfg = mpmdem::config::Config::load(file, mpmdem::coupling_schema(), "coupling");
+  mpmdem::check_coupling(cfg);
+  mpmdem::dem::check_backend_available(cfg);
+  return cfg;
+}
 
 Args parse(int argc, char** argv) {
   Args a;
@@ -99,8 +113,7 @@ int run(int argc, char** argv, int rank) {
   std::optional<mpmdem::config::Config> cfg;
   try {
     args = parse(argc, argv);
-    cfg = mpmdem::config::Config::load(args.scene, mpmdem::coupling_schema(), "coupling");
-    mpmdem::check_coupling(*cfg);
+    cfg = load_coupling(args.scene);
     const std::string scene_backend = cfg->string("coupling.backend");
     if (scene_backend != args.backend) {
       throw UsageError("--backend " + args.backend + " differs from coupling.backend '" +
@@ -141,13 +154,12 @@ int run(int argc, char** argv, int rank) {
 
 }  // namespace
 
-// `dem_app --print-backend FILE` / `--print-port-file FILE`: a validated coupling key,
-// without starting MPI (for scripts/run).
+// `dem_app --check-config FILE` (key empty: prints OK) / `--print-backend FILE` /
+// `--print-port-file FILE`: a validated coupling key, without starting MPI (for scripts/run).
 int print_key(const std::string& file, const std::string& key) {
   try {
-    const auto cfg = mpmdem::config::Config::load(file, mpmdem::coupling_schema(), "coupling");
-    mpmdem::check_coupling(cfg);
-    std::cout << cfg.string(key) << "\n";
+    const auto cfg = load_coupling(file);
+    std::cout << (key.empty() ? "OK: coupling section of " + file : cfg.string(key)) << "\n";
     return 0;
   } catch (const std::exception& e) {
     std::cerr << "dem_app: config error: " << e.what() << "\n";
@@ -160,6 +172,7 @@ int main(int argc, char** argv) {
     for (const auto& name : mpmdem::dem::available_backends()) std::cout << name << "\n";
     return 0;
   }
+  if (argc == 3 && std::string(argv[1]) == "--check-config") return print_key(argv[2], "");
   if (argc == 3 && std::string(argv[1]) == "--print-backend") {
     return print_key(argv[2], "coupling.backend");
   }

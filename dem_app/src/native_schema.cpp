@@ -27,7 +27,7 @@ void add_native_keys(config::Schema& s) {
             "not depend on it, only the rebuild frequency")
             .def("0.5")
             .gt(0));
-  s.add(key("coupling.native.consolidation_on_failure", Type::kString, "",
+  s.add(key("coupling.native.consolidation_on_failure", Type::kEnum, "",
             "what the initial consolidation does with an RVE that does not reach its stress "
             "within consolidation_max_steps: error (stop the run, naming the stress) or warn "
             "(keep the RVE as reached and count it in dem_app's log; for cost studies, and "

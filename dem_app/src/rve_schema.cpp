@@ -9,15 +9,18 @@ using config::Type;
 void add_rve_backend_keys(config::Schema& s, const RveBackendKeys& k) {
   const std::string p = "coupling." + k.backend + ".";
   s.add(key("coupling." + k.backend, Type::kMap, "", k.title));
-  s.add(key(p + "packing_dir", Type::kString, "", k.packing_dir).def("\"\""));
+  s.add(key(p + "packing_dir", Type::kString, "", k.packing_dir + "; needs " + p + "packings")
+            .def("\"\""));
   s.add(key(p + "packing_spec", Type::kString, "",
             "packing spec (a scripts/build_packings --config file, relative to the scene "
             "file's folder) from which scripts/run " +
-                k.spec_builds + " when they are missing; empty: none (the library must exist)")
+                k.spec_builds + " when they are missing; needs " + p +
+                "packing_dir; empty: none (the library must exist)")
             .def("\"\""));
   s.add(key(p + "packings", Type::kStringList, "",
             "packing names in packing_dir (" + k.packing_file +
-                "); one: every RVE uses it; several: each RVE draws one with " + p + "seed")
+                "); one: every RVE uses it; several: each RVE draws one with " + p +
+                "seed; needs " + p + "packing_dir")
             .def("[]"));
   s.add(key(p + "seed", Type::kInt, "-", "seed of the per-RVE packing draw" + k.seed_also)
             .def("1")
@@ -36,7 +39,8 @@ void add_rve_backend_keys(config::Schema& s, const RveBackendKeys& k) {
   s.add(key(p + "ns", Type::kInt, "-", "substeps for ns_rule fixed").def("10").ge(2));
   s.add(
       key(p + "ns_factor", Type::kDouble, "-", "substeps per unit of max|dF-I|").def("1e5").gt(0));
-  s.add(key(p + "ns_min", Type::kInt, "-", "fewest substeps (proportional and rate rules)")
+  s.add(key(p + "ns_min", Type::kInt, "-",
+            "fewest substeps (proportional and rate rules), at most " + p + "ns_max")
             .def("2")
             .ge(2));
   s.add(key(p + "ns_max", Type::kInt, "-", "most substeps (proportional and rate rules)")

@@ -173,10 +173,18 @@ int Config::line(const std::string& path) const {
   if (path.empty()) return best;
   YAML::Node cur = root_;
   for (const std::string& part : split_path(path)) {
+    // "regions[1]": the key "regions", then item 1 of its list.
+    std::string name = part;
+    std::int64_t item = -1;
+    const auto open = part.find('[');
+    if (open != std::string::npos && part.back() == ']') {
+      name = part.substr(0, open);
+      if (!parse_int(part.substr(open + 1, part.size() - open - 2), item)) break;
+    }
     if (!cur.IsMap()) break;
     bool found = false;
     for (auto it = cur.begin(); it != cur.end(); ++it) {
-      if (it->first.IsScalar() && it->first.Scalar() == part) {
+      if (it->first.IsScalar() && it->first.Scalar() == name) {
         best = line_of(it->first);
         cur.reset(it->second);
         found = true;
@@ -184,6 +192,13 @@ int Config::line(const std::string& path) const {
       }
     }
     if (!found) break;
+    if (item >= 0) {
+      if (!cur.IsSequence() || static_cast<std::size_t>(item) >= cur.size()) break;
+      const YAML::Node& seq = cur;
+      const YAML::Node element = seq[static_cast<std::size_t>(item)];
+      if (line_of(element) > 0) best = line_of(element);
+      cur.reset(element);
+    }
   }
   return best;
 }

@@ -215,6 +215,14 @@ Schema& Schema::add(KeySpec spec) {
   if (spec.type == Type::kEnum && spec.choices.empty()) {
     throw std::logic_error("schema: enum '" + path + "' has no choices");
   }
+  if (!spec.choices.empty() && spec.type != Type::kEnum && spec.type != Type::kStringList) {
+    throw std::logic_error("schema: '" + path +
+                           "' has choices but is not an enum or a string list (declare it "
+                           "Type::kEnum: other types do not check them)");
+  }
+  if (spec.nonempty && spec.type != Type::kString) {
+    throw std::logic_error("schema: not_empty() applies to strings only ('" + path + "')");
+  }
   for (KeySpec& k : keys_) {
     if (k.path != path) continue;
     if (k.type == Type::kMap && spec.type == Type::kMap) {
@@ -261,7 +269,7 @@ std::string Schema::reference() const {
     if (k.type == Type::kMap || k.type == Type::kList) {
       def = k.required ? "**required**" : "optional";
     }
-    std::string allowed = range_text(k);
+    std::string allowed = k.nonempty ? "not empty" : range_text(k);
     if (!k.choices.empty()) {
       std::vector<std::string> c;
       for (const auto& x : k.choices) c.push_back("`" + x + "`");

@@ -111,6 +111,9 @@ class Validator {
         return;
       case Type::kString:
         if (!v.IsScalar()) fail(line, where, "must be a string, got " + describe(v));
+        if (spec.nonempty && v.Scalar().empty()) {
+          fail(line, where, "must not be empty: " + spec.doc);
+        }
         return;
       case Type::kEnum:
         if (!v.IsScalar() ||

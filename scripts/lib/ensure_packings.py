@@ -31,9 +31,24 @@ def fail(msg, code=2):
     sys.exit(code)
 
 
+def key_line(text, path):
+    """1-based line of the key at `path` (["coupling", "yade", "packings"]) in the YAML text,
+    or of its nearest present section (as mpm_app and dem_app report a key)."""
+    node = yaml.compose(text)
+    line = node.start_mark.line + 1 if node is not None else 1
+    for part in path:
+        found = [(k, v) for k, v in node.value if k.value == part] \
+            if isinstance(node, yaml.MappingNode) else []
+        if not found:
+            break
+        line, node = found[0][0].start_mark.line + 1, found[0][1]
+    return line
+
+
 def main(scene):
     try:
-        doc = yaml.safe_load(open(scene)) or {}
+        text = open(scene).read()
+        doc = yaml.safe_load(text) or {}
     except (OSError, yaml.YAMLError) as e:
         fail(f"cannot read {scene}: {e}")
     coupling = doc.get("coupling") or {}
@@ -49,12 +64,21 @@ def main(scene):
         return 0
     pdir = os.path.normpath(os.path.join(base, pdir))
     spec = yade.get("packing_spec") or ""
+
+    def at(key):  # "(SCENE line N)" of coupling.<backend>.<key>
+        return f"({scene} line {key_line(text, ['coupling', backend, key])})"
+
+    if spec and not os.path.exists(os.path.normpath(os.path.join(base, spec))) and any(
+            not os.path.exists(os.path.join(pdir, n + ext)) for n in names):
+        # Refused before anything is created (the lock below makes packing_dir).
+        fail(f"coupling.{backend}.packing_spec {os.path.normpath(os.path.join(base, spec))} "
+             f"does not exist {at('packing_spec')}, and packings it would build are missing")
     if spec:  # buildable: one process at a time checks and builds (the lock is freed at exit)
         try:
             os.makedirs(pdir, exist_ok=True)
             lock = open(os.path.join(pdir, ".lock"), "a")
         except OSError as e:
-            fail(f"cannot create coupling.{backend}.packing_dir {pdir} ({scene}): {e}")
+            fail(f"cannot create coupling.{backend}.packing_dir {pdir} {at('packing_dir')}: {e}")
         try:
             fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
@@ -75,13 +99,11 @@ def main(scene):
         return 0
     if not spec:
         fail(f"coupling.{backend}.packings {missing} are not in coupling.{backend}.packing_dir "
-             f"{pdir} ({scene}), and coupling.{backend}.packing_spec is empty: build them with "
+             f"{pdir} {at('packings')}, and coupling.{backend}.packing_spec is empty: build them with "
              "scripts/build_packings --config SPEC --out DIR"
              + (" and scripts/export_native_packings --in DIR" if backend == "native" else "")
              + ", or name a spec")
-    spec = os.path.normpath(os.path.join(base, spec))
-    if not os.path.exists(spec):
-        fail(f"coupling.{backend}.packing_spec {spec} does not exist ({scene})")
+    spec = os.path.normpath(os.path.join(base, spec))  # exists: checked above
     root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     builder = os.path.join(root, "scripts", "build_packings")
     os.makedirs(pdir, exist_ok=True)
@@ -100,7 +122,8 @@ def main(scene):
             fail(f"scripts/export_native_packings failed (exit {rc})", 1)
     still = [n for n in names if not os.path.exists(os.path.join(pdir, n + ext))]
     if still:
-        fail(f"{spec} did not produce {still} that coupling.{backend}.packings names ({scene}); "
+        fail(f"{spec} did not produce {still} that coupling.{backend}.packings names "
+             f"{at('packings')}; "
              "make the spec's item names and copies match")
     if digest:
         with open(stamp, "w") as f:

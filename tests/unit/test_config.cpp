@@ -214,7 +214,7 @@ TEST(ConfigDefaults, AppliedWhereAbsentAndOverriddenWhereGiven) {
                "walls:\n  z_min: friction\n  x_max: slip\n  friction: 0.4\n"
                "velocity_constraints:\n  - name: gate\n    min: [0.5, 0, 0]\n"
                "    max: [0.5, 1, 1]\n    components: [x]\n    release_kinetic_ratio: 0.01\n"
-               "    release_min_time: 0.2\ncoupling:\n  outputs: [porosity, rotation]\n"
+               "    release_min_time: 0.05\ncoupling:\n  outputs: [porosity, rotation]\n"
                "output:\n  vtk: false\n"),
       "  end_time: 0.1\n",
       "  end_time: 0.1\n  scheme: usl\n  shape: bspline2\n  threads: 2\n  on_exit: remove\n");
@@ -229,7 +229,7 @@ TEST(ConfigDefaults, AppliedWhereAbsentAndOverriddenWhereGiven) {
   EXPECT_FALSE(g.constraints[0].release_time.has_value());
   ASSERT_TRUE(g.constraints[0].release_kinetic_ratio.has_value());
   EXPECT_DOUBLE_EQ(*g.constraints[0].release_kinetic_ratio, 0.01);
-  EXPECT_DOUBLE_EQ(g.constraints[0].release_min_time, 0.2);
+  EXPECT_DOUBLE_EQ(g.constraints[0].release_min_time, 0.05);
   EXPECT_EQ(g.solver.scheme, mpmdem::mpm::Scheme::kUSL);
   EXPECT_EQ(g.solver.shape, mpmdem::mpm::ShapeKind::kQuadraticBSpline);
   EXPECT_EQ(g.solver.threads, 2);
@@ -249,6 +249,10 @@ TEST(ConfigAccess, ViewsLinesAndProgrammingErrors) {
   const std::vector<Config> regions = cfg.list("regions");
   ASSERT_EQ(regions.size(), 1u);
   EXPECT_EQ(regions[0].line("density"), 8);
+  // Paths into list items from the top: the key's line, else the item's, else the list's.
+  EXPECT_EQ(cfg.line("regions[0].density"), 8);
+  EXPECT_EQ(cfg.line("regions[0].k0"), 6);
+  EXPECT_EQ(cfg.line("regions[3].min"), 5);
   EXPECT_EQ(regions[0].shown("max"), "regions[0].max");
   EXPECT_EQ(regions[0].vec3("max")[2], 0.5);
   try {
@@ -275,6 +279,10 @@ TEST(ConfigSchema, DeclarationErrorsAreLogicErrors) {
                std::logic_error);
   EXPECT_THROW(s.add(key("l[].k", Type::kDouble, "", "no list")), std::logic_error);
   EXPECT_THROW(s.add(key("a.e", Type::kEnum, "", "no choices")), std::logic_error);
+  // Choices on a string would not be checked: a word from a set is a kEnum.
+  EXPECT_THROW(s.add(key("a.s", Type::kString, "", "choices").one_of({"p", "q"})),
+               std::logic_error);
+  EXPECT_THROW(s.add(key("a.n", Type::kDouble, "", "not a string").not_empty()), std::logic_error);
   s.add(key("b.c.d", Type::kInt, "", "implicit parents").def("3"));
   ASSERT_NE(s.find("b.c"), nullptr);
   EXPECT_EQ(s.find("b.c")->type, Type::kMap);

@@ -4,8 +4,9 @@
 // the coupling (and the MPM) be verified before YADE enters.
 //
 // Optional outputs: none. Rotation, porosity, coordination and unbalanced force are not
-// defined for a continuum point, so the server advertises no output capability and the
-// handshake refuses a scene that asks for them; those reply fields stay zero.
+// defined for a continuum point, so the server advertises no output capability
+// (dem::backend_outputs, coupling_rules.hpp), a scene that asks for them is refused when it
+// is loaded, and those reply fields stay zero.
 #pragma once
 
 #include <Eigen/Core>
@@ -17,8 +18,6 @@
 #include "mpmdem/config/schema.hpp"
 
 namespace mpmdem::dem {
-
-inline constexpr std::uint32_t kElasticOutputs = 0;  // protocol::OutputBits it can provide
 
 struct ElasticParams {
   double youngs_modulus = 1e7;  // coupling.elastic.youngs_modulus [Pa]

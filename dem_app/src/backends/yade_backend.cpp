@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "coupling_rules.hpp"
+
 namespace mpmdem::dem {
 namespace {
 
@@ -64,6 +66,7 @@ std::string packing_dir(const config::Config& cfg) {
 class YadeBackend final : public RveBackend {
  public:
   YadeBackend(const config::Config& cfg, const BackendContext& ctx) : ctx_(ctx) {
+    check_rve_backend(cfg, "yade");
     std::ostringstream p;
     p.precision(17);
     p << "{\"packing_dir\": " << json_string(packing_dir(cfg)) << ", \"packings\": [";
@@ -84,9 +87,6 @@ class YadeBackend final : public RveBackend {
       << ", \"consolidation_unbalanced\": " << cfg.number("coupling.yade.consolidation_unbalanced")
       << ", \"consolidation_max_steps\": " << cfg.integer("coupling.yade.consolidation_max_steps");
     params_ = p.str();
-    if (cfg.integer("coupling.yade.ns_min") > cfg.integer("coupling.yade.ns_max")) {
-      cfg.fail("coupling.yade.ns_min", "must not exceed coupling.yade.ns_max");
-    }
   }
 
   ~YadeBackend() override {

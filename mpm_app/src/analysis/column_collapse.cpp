@@ -4,18 +4,55 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <tuple>
 #include <vector>
 
 #include "boundary_conditions.hpp"
 #include "energies.hpp"
 #include "errors.hpp"
+#include "mpmdem/config/schema.hpp"
 
 namespace mpmdem::mpm {
 
 namespace {
 
-std::string where(const Scene& scene) {
-  return " (" + scene.source_file + ")";
+std::string text(const Vec3& v) {
+  return "[" + config::format_number(v[0]) + ", " + config::format_number(v[1]) + ", " +
+         config::format_number(v[2]) + "]";
+}
+
+// "'a', 'b'": the names of a list, for "names no entry" messages.
+template <class Items>
+std::string names_of(const Items& items) {
+  std::string s;
+  for (const auto& item : items) s += (s.empty() ? "'" : ", '") + item.name + "'";
+  return s.empty() ? "none" : s;
+}
+
+// The velocity constraint whose release starts stage 2 (-1: none, stage 2 from t = 0).
+int release_constraint(const Scene& scene) {
+  const std::string& name = scene.column_collapse.release_constraint;
+  const auto& cs = scene.constraints;
+  if (name == "none") {
+    for (std::size_t c = 0; c < cs.size(); ++c) {
+      if (cs[c].name == "none") {
+        throw SceneError("column_collapse.release_constraint",
+                         "'none' is ambiguous: velocity_constraints[" + std::to_string(c) +
+                             "] is named none too; rename that constraint");
+      }
+    }
+    return -1;
+  }
+  for (std::size_t c = 0; c < cs.size(); ++c) {
+    if (name.empty() || cs[c].name == name) return static_cast<int>(c);
+  }
+  if (!name.empty()) {
+    throw SceneError("column_collapse.release_constraint",
+                     "'" + name +
+                         "' names no entry of velocity_constraints[] (names: " + names_of(cs) +
+                         "); name one, write '' for the first or none for stage 2 from t = 0");
+  }
+  return -1;  // no constraint at all: stage 2 from t = 0
 }
 
 }  // namespace
@@ -26,9 +63,9 @@ ColumnGeometry column_geometry(const Scene& scene) {
   const Vec3& grav = scene.solver.gravity;
   if (!(grav[2] < 0.0) || std::abs(grav[0]) > 1e-12 * std::abs(grav[2]) ||
       std::abs(grav[1]) > 1e-12 * std::abs(grav[2])) {
-    throw SceneError("column_collapse needs solver.gravity along -z, got [" +
-                     std::to_string(grav[0]) + ", " + std::to_string(grav[1]) + ", " +
-                     std::to_string(grav[2]) + "]" + where(scene));
+    throw SceneError("solver.gravity", text(grav) +
+                                           " does not point along -z, which column_collapse "
+                                           "needs (the column stands on the z_min face)");
   }
   g.g = -grav[2];
   g.region = -1;
@@ -39,8 +76,9 @@ ColumnGeometry column_geometry(const Scene& scene) {
     }
   }
   if (g.region < 0) {
-    throw SceneError("column_collapse.region '" + cp.region + "' names no region of regions[]" +
-                     where(scene));
+    throw SceneError("column_collapse.region",
+                     "'" + cp.region + "' names no entry of regions[] (names: " +
+                         names_of(scene.regions) + "); name one, or write '' for the first");
   }
   const RegionParams& reg = scene.regions[static_cast<std::size_t>(g.region)];
   g.x_back = reg.min[0];
@@ -53,25 +91,39 @@ ColumnGeometry column_geometry(const Scene& scene) {
   g.spacing_z = scene.grid.cell_size / reg.points_along(2);
   g.cell_size = scene.grid.cell_size;
   const double tol = 1e-9 * scene.grid.cell_size;
+  const std::string reg_key = "regions[" + std::to_string(g.region) + "].min";
   if (std::abs(reg.min[0] - scene.grid.origin[0]) > tol) {
-    throw SceneError("column_collapse: region '" + reg.name + "' must touch the back wall: its " +
-                     "min x (" + std::to_string(reg.min[0]) + " m) differs from grid.origin x (" +
-                     std::to_string(scene.grid.origin[0]) + " m)" + where(scene));
+    throw SceneError(reg_key, text(reg.min) + ": the column region '" + reg.name +
+                                  "' must touch the back wall, but its min x differs from "
+                                  "grid.origin x " +
+                                  config::format_number(scene.grid.origin[0]));
   }
   if (std::abs(reg.min[2] - scene.grid.origin[2]) > tol) {
-    throw SceneError("column_collapse: region '" + reg.name + "' must stand on the base: its " +
-                     "min z (" + std::to_string(reg.min[2]) + " m) differs from grid.origin z (" +
-                     std::to_string(scene.grid.origin[2]) + " m)" + where(scene));
+    throw SceneError(reg_key, text(reg.min) + ": the column region '" + reg.name +
+                                  "' must stand on the base, but its min z differs from "
+                                  "grid.origin z " +
+                                  config::format_number(scene.grid.origin[2]));
   }
-  for (std::size_t c = 0; c < scene.constraints.size(); ++c) {
-    if (cp.release_constraint.empty() || scene.constraints[c].name == cp.release_constraint) {
-      g.constraint = static_cast<int>(c);
-      break;
+  // The back wall and the base hold the column: a free face would let it leave the grid.
+  for (const auto& [face, index, what] :
+       {std::tuple{"x_min", 0, "back wall"}, std::tuple{"z_min", 4, "base"}}) {
+    if (scene.walls[static_cast<std::size_t>(index)].type == WallType::kFree) {
+      throw SceneError(std::string("walls.") + face,
+                       std::string("is free, but it is the column's ") + what +
+                           " (column_collapse): make it slip, fixed or friction");
     }
   }
-  if (!cp.release_constraint.empty() && g.constraint < 0) {
-    throw SceneError("column_collapse.release_constraint '" + cp.release_constraint +
-                     "' names no entry of velocity_constraints[]" + where(scene));
+  g.constraint = release_constraint(scene);
+  if (g.constraint >= 0) {
+    const VelocityConstraintParams& c = scene.constraints[static_cast<std::size_t>(g.constraint)];
+    if (!c.release_time && !c.release_kinetic_ratio) {
+      throw SceneError("velocity_constraints[" + std::to_string(g.constraint) + "]",
+                       "'" + c.name +
+                           "' holds the column in stage 1 (column_collapse.release_constraint) "
+                           "but has neither release_time nor release_kinetic_ratio: it is never "
+                           "released, so the column would never collapse; give it one, or set "
+                           "column_collapse.release_constraint: none for stage 2 from t = 0");
+    }
   }
   return g;
 }

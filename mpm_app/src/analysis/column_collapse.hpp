@@ -8,7 +8,10 @@
 // Stages: stage 1 holds the lateral free surface with the velocity constraint named by
 // column_collapse.release_constraint until it is released (its own release rule: time, or
 // E_k/E_p0 below a ratio); stage 2 starts at that release, time t_r, and the run ends at
-// t_r + duration_t_star t* (solver.end_time stays a hard cap). Without a constraint, t_r = 0.
+// t_r + duration_t_star t* (solver.end_time stays a hard cap). Without a constraint
+// (release_constraint: none, or no velocity constraint at all), t_r = 0: the column
+// collapses from its initial state (e.g. regions[].initial_stress: geostatic), as after an
+// instantaneous release.
 // With column_collapse.at_rest it ends earlier once the deposit is at rest (analysis/at_rest.hpp:
 // E_k/E_p0 below a ratio for a hold time, E_p0 the release value below).
 //
@@ -58,10 +61,14 @@ struct ColumnGeometry {
   double spacing_z = 0.0;  // initial point spacing along z [m]
   double cell_size = 0.0;  // grid cell size [m] (the gap that detaches the front)
   int region = 0;          // index of the column region
-  int constraint = -1;     // index of the stage-1 constraint, -1 if none
+  int constraint = -1;     // index of the stage-1 constraint, -1 if none (t_r = 0)
 };
 
-// Throws SceneError naming the key if the scene does not describe a column collapse.
+// Throws SceneError naming the key (SceneError::key) if the scene does not describe a column
+// collapse that can happen: gravity along -z; a region (column_collapse.region) on the base
+// against the back wall, walls.z_min and walls.x_min not free; the release constraint
+// (column_collapse.release_constraint: a name, '' for the first, none for no constraint)
+// exists and has a release rule. The scene loader calls it (config/scene_rules.hpp).
 ColumnGeometry column_geometry(const Scene& scene);
 
 struct DepositShape {

@@ -7,9 +7,9 @@
 #include <cmath>
 #include <filesystem>
 
-#include "analysis/column_collapse.hpp"
+#include "config/scene_rules.hpp"
+#include "coupling_rules.hpp"
 #include "coupling_schema.hpp"
-#include "errors.hpp"
 #include "mpmdem/config_hash.hpp"
 
 namespace mpmdem::mpm {
@@ -367,6 +367,15 @@ ColumnCollapseParams load_column_collapse(const Config& cfg) {
                    config::format_number(c.snapshots_t_star[i - 1]));
     }
   }
+  for (double t : c.snapshots_t_star) {
+    if (t > c.duration_t_star) {
+      cfg.fail("column_collapse.snapshots_t_star",
+               "asks for " + config::format_number(t) +
+                   " t*, after stage 2 ends at column_collapse.duration_t_star " +
+                   config::format_number(c.duration_t_star) +
+                   ": that snapshot would never be written; drop it or lengthen the duration");
+    }
+  }
   if (cfg.has("column_collapse.at_rest")) {
     c.at_rest = true;
     c.at_rest_kinetic_ratio = cfg.number("column_collapse.at_rest.kinetic_ratio");
@@ -406,13 +415,7 @@ Scene load_scene(const std::string& file) {
   scene.output = load_output(cfg);
   scene.verification = load_verification(cfg);
   scene.column_collapse = load_column_collapse(cfg);
-  if (scene.column_collapse.enabled) {
-    try {
-      (void)column_geometry(scene);
-    } catch (const SceneError& e) {
-      cfg.fail("column_collapse", e.what());
-    }
-  }
+  check_scene_rules(cfg, scene);
   return scene;
 }
 

@@ -92,8 +92,9 @@ void add_constraint_keys(config::Schema& s) {
   s.add(key("velocity_constraints", Type::kList, "",
             "grid velocity components held at a value on the nodes inside a box (a plane if "
             "min = max along one axis) until released"));
-  s.add(key("velocity_constraints[].name", Type::kString, "", "label; constraint<i> if empty")
-            .def("''"));
+  s.add(
+      key("velocity_constraints[].name", Type::kString, "", "label, unique; constraint<i> if empty")
+          .def("''"));
   s.add(key("velocity_constraints[].min", Type::kVec3, "m", "lower corner of the box").req());
   s.add(key("velocity_constraints[].max", Type::kVec3, "m", "upper corner of the box").req());
   s.add(key("velocity_constraints[].components", Type::kStringList, "",
@@ -104,14 +105,15 @@ void add_constraint_keys(config::Schema& s) {
             "held velocity (only the listed components are used)")
             .def("[0, 0, 0]"));
   s.add(key("velocity_constraints[].release_time", Type::kDouble, "s",
-            "release at this time (optional; never released if neither release key is given; "
-            "with release_kinetic_ratio too, whichever comes first)")
+            "release at this time, before solver.end_time (optional; never released if neither "
+            "release key is given; with release_kinetic_ratio too, whichever comes first)")
             .ge(0));
   s.add(key("velocity_constraints[].release_kinetic_ratio", Type::kDouble, "-",
             "release when E_k / E_p0 falls below this after release_min_time (optional)")
             .gt(0));
   s.add(key("velocity_constraints[].release_min_time", Type::kDouble, "s",
-            "earliest release by release_kinetic_ratio")
+            "earliest release by release_kinetic_ratio; before solver.end_time, and before "
+            "release_time when that is given too")
             .def("0")
             .ge(0));
 }
@@ -174,7 +176,8 @@ void add_solver_keys(config::Schema& s) {
       key("solver.dt_max", Type::kDouble, "s", "cap on the automatic time step").def("1e-3").gt(0));
   s.add(key("solver.dt_fixed", Type::kDouble, "s",
             "fixed time step in place of the automatic (CFL) one, for stability studies: "
-            "not checked against the CFL limit (a warning says when it exceeds it); 0: automatic")
+            "not checked against the CFL limit (a warning says when it exceeds it), below "
+            "solver.end_time; 0: automatic")
             .def("0")
             .ge(0));
   s.add(key("solver.end_time", Type::kDouble, "s", "simulated time to run").req().gt(0));
@@ -319,8 +322,9 @@ void add_output_keys(config::Schema& s) {
 void add_verification_keys(config::Schema& s) {
   s.add(key("verification", Type::kMap, "", "analytic comparison written to summary.json"));
   s.add(key("verification.kind", Type::kEnum, "",
-            "elastic_column: stress profile and settlement under self-weight; bar_vibration: "
-            "period of the first axial mode")
+            "elastic_column: stress profile and settlement under self-weight (gravity along "
+            "-z); bar_vibration: period of the first axial mode. With the remote model both "
+            "need coupling.backend elastic (known moduli)")
             .def("none")
             .one_of({"none", "elastic_column", "bar_vibration"}));
 }
@@ -329,13 +333,15 @@ void add_column_collapse_keys(config::Schema& s) {
   s.add(key("column_collapse", Type::kMap, "",
             "granular column collapse analysis (two stages, runout, final height, energies, "
             "snapshots; see analysis/column_collapse.hpp). Gravity must point along -z and "
-            "the column must stand on the z_min face against the x_min face"));
+            "the column must stand on the z_min face against the x_min face, neither of them "
+            "free"));
   s.add(
       key("column_collapse.region", Type::kString, "", "the column region; empty: the first region")
           .def("''"));
   s.add(key("column_collapse.release_constraint", Type::kString, "",
-            "velocity constraint holding the lateral free surface in stage 1; its release "
-            "starts stage 2 (empty: the first constraint; none: stage 2 from t = 0)")
+            "velocity constraint holding the lateral free surface in stage 1, which needs a "
+            "release rule; its release starts stage 2 (empty: the first constraint; none: "
+            "stage 2 from t = 0)")
             .def("''"));
   s.add(key("column_collapse.duration_t_star", Type::kDouble, "t*",
             "stage-2 length in units of t* = sqrt(H_i/|g|); the run ends then "
@@ -343,8 +349,8 @@ void add_column_collapse_keys(config::Schema& s) {
             .def("6")
             .gt(0));
   s.add(key("column_collapse.snapshots_t_star", Type::kNumberList, "t*",
-            "stage-2 times (in t*, increasing; any number of them, [] for none) at which the "
-            "state is saved to snapshots/t_star_<k>.h5 for the pictures")
+            "stage-2 times (in t*, increasing, at most duration_t_star; any number of them, [] "
+            "for none) at which the state is saved to snapshots/t_star_<k>.h5 for the pictures")
             .def("[1, 3, 6]")
             .ge(0));
   s.add(key("column_collapse.at_rest", Type::kMap, "",

@@ -7,6 +7,10 @@
 #include <limits>
 #include <stdexcept>
 
+#include "errors.hpp"
+#include "mpmdem/config/schema.hpp"
+#include "run_support.hpp"
+
 namespace mpmdem::mpm {
 
 namespace {
@@ -33,6 +37,15 @@ ElasticModuli scene_elastic_moduli(const Scene& scene) {
   ElasticModuli m;
   m.E = scene.constitutive.youngs_modulus;
   m.nu = scene.constitutive.poisson_ratio;
+  if (scene.constitutive.model == ModelKind::kRemote && scene.coupling.backend != "elastic") {
+    throw SceneError("verification.kind",
+                     std::string(run_support::verification_name(scene.verification.kind)) +
+                         " compares with linear elasticity, but the remote model's "
+                         "coupling.backend is " +
+                         scene.coupling.backend +
+                         ", whose moduli are not known in closed form: use coupling.backend "
+                         "elastic, or verification.kind none");
+  }
   if (scene.constitutive.model == ModelKind::kRemote && !remote_elastic(scene, m.E, m.nu)) {
     throw std::runtime_error(
         "verification needs the elastic moduli of the remote model: coupling.elastic."
@@ -42,12 +55,22 @@ ElasticModuli scene_elastic_moduli(const Scene& scene) {
   return m;
 }
 
-ElasticColumnResult verify_elastic_column(const Scene& scene, const Particles& p) {
-  const Vec3& g_vec = scene.solver.gravity;
-  if (!(g_vec.z() < 0.0) || std::abs(g_vec.x()) > 1e-12 * std::abs(g_vec.z()) ||
-      std::abs(g_vec.y()) > 1e-12 * std::abs(g_vec.z())) {
-    throw std::runtime_error("elastic_column verification expects gravity along -z");
+void check_elastic_column_scene(const Scene& scene) {
+  const Vec3& g = scene.solver.gravity;
+  if (!(g.z() < 0.0) || std::abs(g.x()) > 1e-12 * std::abs(g.z()) ||
+      std::abs(g.y()) > 1e-12 * std::abs(g.z())) {
+    throw SceneError("solver.gravity",
+                     "[" + config::format_number(g.x()) + ", " + config::format_number(g.y()) +
+                         ", " + config::format_number(g.z()) +
+                         "] does not point along -z, which verification.kind elastic_column "
+                         "needs (its analytic column is loaded along -z)");
   }
+  (void)scene_elastic_moduli(scene);
+}
+
+ElasticColumnResult verify_elastic_column(const Scene& scene, const Particles& p) {
+  check_elastic_column_scene(scene);
+  const Vec3& g_vec = scene.solver.gravity;
   if (p.size() == 0) throw std::runtime_error("elastic_column verification: no points");
   const double g = -g_vec.z();
   const double M = scene_elastic_moduli(scene).M;

@@ -26,7 +26,9 @@
 namespace mpmdem::mpm {
 
 // Constrained (P-wave) modulus M and Young's modulus E of the elastic material the scene
-// uses: constitutive.linear_elastic, or coupling.elastic when the model is remote.
+// uses: constitutive.linear_elastic (or .drucker_prager), or coupling.elastic when the
+// model is remote, which needs coupling.backend elastic (SceneError naming
+// verification.kind otherwise: a DEM backend has no closed-form moduli).
 struct ElasticModuli {
   double E = 0.0;
   double nu = 0.0;
@@ -43,7 +45,11 @@ struct ElasticColumnResult {
   std::size_t top_layer_points = 0;
 };
 
-// Throws std::runtime_error if the scene is not a column under gravity along -z.
+// What the verification needs of the scene: gravity along -z and known elastic moduli
+// (scene_elastic_moduli). Throws SceneError naming the key; the scene loader calls it for
+// verification.kind elastic_column, so a scene it refuses never runs.
+void check_elastic_column_scene(const Scene& scene);
+// Throws SceneError if the scene is not one check_elastic_column_scene() accepts.
 ElasticColumnResult verify_elastic_column(const Scene& scene, const Particles& p);
 
 }  // namespace mpmdem::mpm

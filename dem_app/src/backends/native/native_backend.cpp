@@ -20,6 +20,7 @@
 #include "backends/native/integrator.hpp"
 #include "backends/native/measures.hpp"
 #include "backends/native/packing.hpp"
+#include "coupling_rules.hpp"
 
 namespace mpmdem::dem {
 
@@ -360,6 +361,7 @@ void NativeBackend::adopt(std::uint64_t first_rve, std::uint64_t n_rve,
 }
 
 NativeParams native_params(const config::Config& cfg) {
+  check_rve_backend(cfg, "native");
   NativeParams p;
   std::string dir = cfg.string("coupling.native.packing_dir");
   if (!dir.empty() && !std::filesystem::path(dir).is_absolute()) {
@@ -367,9 +369,6 @@ NativeParams native_params(const config::Config& cfg) {
   }
   p.packing_dir = dir;
   p.packings = cfg.strings("coupling.native.packings");
-  if (!p.packings.empty() && p.packing_dir.empty()) {
-    cfg.fail("coupling.native.packings", "needs coupling.native.packing_dir");
-  }
   p.seed = cfg.integer("coupling.native.seed");
   p.inline_spheres = static_cast<int>(cfg.integer("coupling.native.inline_spheres"));
   const std::string rule = cfg.string("coupling.native.ns_rule");
@@ -380,7 +379,6 @@ NativeParams native_params(const config::Config& cfg) {
   p.ns_factor = cfg.number("coupling.native.ns_factor");
   p.ns_min = static_cast<int>(cfg.integer("coupling.native.ns_min"));
   p.ns_max = static_cast<int>(cfg.integer("coupling.native.ns_max"));
-  if (p.ns_min > p.ns_max) cfg.fail("coupling.native.ns_min", "must not exceed ns_max");
   p.damping = cfg.number("coupling.native.damping");
   p.ke_threshold = cfg.number("coupling.native.ke_threshold");
   p.stiffness = cfg.string("coupling.native.stiffness") == "tangent";

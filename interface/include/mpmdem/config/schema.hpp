@@ -31,11 +31,12 @@ enum class Type {
   kDouble,      // number
   kInt,         // integer
   kBool,        // true/false
-  kString,      // any string
+  kString,      // any string (not_empty(): at least one character)
   kEnum,        // one of KeySpec::choices
   kVec3,        // [x, y, z]
   kNumberList,  // [a, b, ...] numbers, each within min/max; may be empty
   kStringList,  // [a, b, ...] each one of KeySpec::choices if choices are given
+                // (a single word from a fixed set is a kEnum: kString takes no choices)
   kMap,         // nested map: its keys are declared with the path as prefix
   kList,        // list of maps: item keys are declared as "path[].key"
 };
@@ -52,6 +53,7 @@ struct KeySpec {
   bool min_exclusive = false;  // value must be > min instead of >= min
   std::vector<std::string> choices;
   bool max_exclusive = false;  // value must be < max instead of <= max
+  bool nonempty = false;       // kString: the empty string is refused
 
   // Fluent setters for readable declarations (see key() below).
   KeySpec& def(std::string yaml) {
@@ -84,6 +86,10 @@ struct KeySpec {
   }
   KeySpec& one_of(std::vector<std::string> c) {
     choices = std::move(c);
+    return *this;
+  }
+  KeySpec& not_empty() {
+    nonempty = true;
     return *this;
   }
 };
@@ -159,7 +165,9 @@ class Config {
   std::vector<double> numbers(const std::string& path) const;  // kNumberList
   std::vector<std::string> strings(const std::string& path) const;
   std::vector<Config> list(const std::string& path) const;  // items of a kList
-  int line(const std::string& path) const;  // 1-based line of the key, or of the section
+  // 1-based line of the key, or of its nearest present section; list items are indexed
+  // ("velocity_constraints[1].release_time").
+  int line(const std::string& path) const;
   const std::string& file() const { return file_; }
   // Raise a ConfigError about `path` (for cross-key checks done by loaders). The message is
   // "<shown path> <what> (<file> line <n>)", e.g. fail("max", "[0, 0, 2] lies outside ...")

@@ -1,0 +1,96 @@
+// The rules between keys of the `coupling:` section: see coupling_rules.hpp.
+#include "coupling_rules.hpp"
+
+#include <vector>
+
+#include "coupling_schema.hpp"
+#include "mpmdem/protocol.hpp"
+
+namespace mpmdem {
+
+namespace {
+
+std::string list_text(const std::vector<std::string>& items) {
+  std::string s = "[";
+  for (std::size_t i = 0; i < items.size(); ++i) s += (i ? ", " : "") + items[i];
+  return s + "]";
+}
+
+}  // namespace
+
+namespace dem {
+
+std::uint32_t backend_outputs(const std::string& name) {
+  if (name == "yade" || name == "native") return protocol::kKnownOutputs;
+  return 0;  // elastic (see backends/elastic_backend.hpp), or an unknown name
+}
+
+}  // namespace dem
+
+void check_elastic_section(const config::Config& cfg) {
+  if (cfg.string("coupling.backend") == "elastic" && !cfg.has("coupling.elastic")) {
+    cfg.fail("coupling.backend",
+             "is elastic but the section coupling.elastic (youngs_modulus, poisson_ratio) is "
+             "missing");
+  }
+}
+
+void check_outputs_provided(const config::Config& cfg) {
+  const std::string backend = cfg.string("coupling.backend");
+  const std::uint32_t provided = dem::backend_outputs(backend);
+  for (const std::string& name : cfg.strings("coupling.outputs")) {
+    if ((coupling_output_bit(name) & provided) == 0) {
+      cfg.fail("coupling.outputs",
+               list_text(cfg.strings("coupling.outputs")) + " asks for '" + name +
+                   "', which backend " + backend +
+                   " does not compute (it provides: " + coupling_output_names(provided) +
+                   "); remove it, or use a DEM backend (native or yade)");
+    }
+  }
+}
+
+void check_substep_bounds(const config::Config& cfg, const std::string& backend) {
+  const std::string p = "coupling." + backend + ".";
+  const std::int64_t lo = cfg.integer(p + "ns_min"), hi = cfg.integer(p + "ns_max");
+  if (lo > hi) {
+    cfg.fail(p + "ns_min", std::to_string(lo) + " exceeds " + p + "ns_max " + std::to_string(hi) +
+                               ": the fewest substeps must not exceed the most; lower ns_min "
+                               "or raise ns_max");
+  }
+}
+
+void check_packing_library(const config::Config& cfg, const std::string& backend) {
+  const std::string p = "coupling." + backend + ".";
+  const std::string dir = cfg.string(p + "packing_dir"), spec = cfg.string(p + "packing_spec");
+  const std::vector<std::string> names = cfg.strings(p + "packings");
+  if (!names.empty() && dir.empty()) {
+    cfg.fail(p + "packings", list_text(names) + " names packings but " + p +
+                                 "packing_dir is empty: give the library folder, or write "
+                                 "packings: [] to build every RVE in place");
+  }
+  if (!dir.empty() && names.empty()) {
+    cfg.fail(p + "packing_dir", "'" + dir + "' is given but " + p +
+                                    "packings is empty, so the library would not be used: list "
+                                    "at least one packing of it, or write packing_dir: \"\" to "
+                                    "build every RVE in place");
+  }
+  if (!spec.empty() && dir.empty()) {
+    cfg.fail(p + "packing_spec", "'" + spec + "' is given but " + p +
+                                     "packing_dir is empty: name the folder the spec's "
+                                     "packings go to, or remove packing_spec");
+  }
+}
+
+void check_rve_backend(const config::Config& cfg, const std::string& backend) {
+  check_substep_bounds(cfg, backend);
+  check_packing_library(cfg, backend);
+}
+
+void check_coupling(const config::Config& cfg) {
+  check_elastic_section(cfg);
+  check_outputs_provided(cfg);
+  const std::string backend = cfg.string("coupling.backend");
+  if (backend == "yade" || backend == "native") check_rve_backend(cfg, backend);
+}
+
+}  // namespace mpmdem

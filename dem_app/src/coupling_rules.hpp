@@ -1,0 +1,40 @@
+// The rules between keys of the shared `coupling:` section, one function per rule. The
+// schema (coupling_schema.hpp) checks each key alone; these check keys against each other
+// and against the backend the scene names. Both programs call check_coupling() when they
+// load a scene (mpm_app --check-config for a remote model, dem_app before it serves), so a
+// scene the DEM server would refuse is refused before anything runs; the backends call the
+// rule of their own section again when they are built from a Config. Each throws
+// config::ConfigError naming the key, its value, the file and the line, and what to change.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "mpmdem/config/schema.hpp"
+
+namespace mpmdem {
+
+namespace dem {
+// protocol::OutputBits the named backend computes (the server advertises them in its Hello;
+// the handshake refuses a client asking for more): every output for the DEM backends, none
+// for the elastic stub (a continuum point has no rotation, porosity, ...).
+std::uint32_t backend_outputs(const std::string& name);
+}  // namespace dem
+
+// Every rule below for the scene's coupling.backend.
+void check_coupling(const config::Config& cfg);
+
+// coupling.backend elastic needs the section coupling.elastic (its moduli).
+void check_elastic_section(const config::Config& cfg);
+// Each name of coupling.outputs is computed by coupling.backend.
+void check_outputs_provided(const config::Config& cfg);
+// coupling.<backend>.ns_min <= coupling.<backend>.ns_max (backend yade or native).
+void check_substep_bounds(const config::Config& cfg, const std::string& backend);
+// coupling.<backend>.packings and .packing_spec need .packing_dir, and a .packing_dir needs
+// at least one name in .packings (otherwise the library would be ignored and every RVE
+// built in place).
+void check_packing_library(const config::Config& cfg, const std::string& backend);
+// The two above: what the yade and native backends check of their own section.
+void check_rve_backend(const config::Config& cfg, const std::string& backend);
+
+}  // namespace mpmdem

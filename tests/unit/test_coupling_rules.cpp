@@ -1,0 +1,97 @@
+// The rules between keys of the `coupling:` section (dem_app/src/coupling_rules.hpp): each
+// refuses its scene naming the key, the value, the file and the line; the schema's own
+// checks of single keys that the DEM server relied on (not empty, choices).
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "config_test_support.hpp"
+#include "coupling_rules.hpp"
+
+using namespace config_test;
+
+namespace {
+
+// The message check_coupling() raises for the section `coupling` ("" if none), and its line.
+std::string coupling_error(const std::string& coupling, int* line = nullptr) {
+  try {
+    const Config cfg = Config::from_string("config_version: 1\ncoupling:\n" + coupling,
+                                           mpmdem::coupling_schema(), "c.yaml", "coupling");
+    mpmdem::check_coupling(cfg);
+  } catch (const ConfigError& e) {
+    if (line) *line = e.line();
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(CouplingRules, SubstepBoundsAreAPair) {
+  for (const std::string b : {"native", "yade"}) {
+    SCOPED_TRACE(b);
+    const std::string head = "  backend: " + b + "\n  " + b + ":\n";
+    EXPECT_EQ(coupling_error(head + "    ns_min: 5\n    ns_max: 5\n"), "");
+    int line = 0;
+    EXPECT_CONTAINS(coupling_error(head + "    ns_min: 6\n    ns_max: 5\n", &line),
+                    "coupling." + b + ".ns_min 6 exceeds coupling." + b + ".ns_max 5");
+    EXPECT_EQ(line, 5);
+    // Against the default ns_max 100 when only ns_min is given.
+    EXPECT_CONTAINS(coupling_error(head + "    ns_min: 101\n"), "ns_max 100");
+  }
+  // The section of a backend not in use is not looked into.
+  EXPECT_EQ(coupling_error("  backend: native\n  yade:\n    ns_min: 6\n    ns_max: 5\n"), "");
+}
+
+TEST(CouplingRules, PackingLibraryKeysReferToEachOther) {
+  for (const std::string b : {"native", "yade"}) {
+    SCOPED_TRACE(b);
+    const std::string head = "  backend: " + b + "\n  " + b + ":\n";
+    EXPECT_EQ(coupling_error(head + "    packing_dir: lib\n    packings: [p1]\n"), "");
+    EXPECT_EQ(coupling_error(head + "    inline_spheres: 40\n"), "");
+    EXPECT_CONTAINS(coupling_error(head + "    packings: [p1, p2]\n"),
+                    "coupling." + b + ".packings [p1, p2] names packings but coupling." + b +
+                        ".packing_dir is empty");
+    int line = 0;
+    EXPECT_CONTAINS(
+        coupling_error(head + "    packing_dir: lib\n    packings: []\n", &line),
+        "coupling." + b + ".packing_dir 'lib' is given but coupling." + b + ".packings is empty");
+    EXPECT_EQ(line, 5);
+    EXPECT_CONTAINS(coupling_error(head + "    packing_spec: spec.yaml\n"),
+                    "coupling." + b + ".packing_spec 'spec.yaml' is given but coupling." + b +
+                        ".packing_dir is empty");
+  }
+}
+
+TEST(CouplingRules, OutputsAreThoseTheBackendComputes) {
+  const std::string elastic = "  elastic: {youngs_modulus: 1e6, poisson_ratio: 0.25}\n";
+  EXPECT_EQ(coupling_error("  backend: elastic\n  outputs: []\n" + elastic), "");
+  int line = 0;
+  EXPECT_CONTAINS(
+      coupling_error("  backend: elastic\n  outputs: [porosity]\n" + elastic, &line),
+      "coupling.outputs [porosity] asks for 'porosity', which backend elastic does not compute "
+      "(it provides: none)");
+  EXPECT_EQ(line, 4);
+  EXPECT_EQ(coupling_error("  backend: native\n  outputs: [rotation, porosity, coordination, "
+                           "unbalanced_force]\n"),
+            "");
+  EXPECT_EQ(mpmdem::dem::backend_outputs("elastic"), 0u);
+  EXPECT_EQ(mpmdem::dem::backend_outputs("yade"), mpmdem::protocol::kKnownOutputs);
+  EXPECT_EQ(mpmdem::dem::backend_outputs("native"), mpmdem::protocol::kKnownOutputs);
+  EXPECT_CONTAINS(coupling_error("  backend: elastic\n"),
+                  "coupling.backend is elastic but the section coupling.elastic");
+}
+
+TEST(CouplingRules, SchemaRefusesWhatTheServerCouldNotUse) {
+  EXPECT_CONTAINS(coupling_error("  backend: native\n  service_name: ''\n"),
+                  "coupling.service_name must not be empty");
+  EXPECT_CONTAINS(coupling_error("  backend: native\n  port_file: \"\"\n"),
+                  "coupling.port_file must not be empty");
+  // A string key with fixed choices is an enum: a value outside them is refused.
+  EXPECT_CONTAINS(coupling_error("  backend: native\n  native:\n"
+                                 "    consolidation_on_failure: ignore\n"),
+                  "coupling.native.consolidation_on_failure must be one of error, warn; got "
+                  "'ignore'");
+  EXPECT_EQ(coupling_error("  backend: native\n  native:\n    consolidation_on_failure: warn\n"),
+            "");
+}

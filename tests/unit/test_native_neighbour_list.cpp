@@ -168,8 +168,13 @@ TEST(NativeNeighbourList, BinnedBuildListsTheAllPairsBuildsPairsInItsOrder) {
   const Eigen::Matrix3d stretch = Eigen::Vector3d(4.0, 0.25, 1.0).asDiagonal();
   Eigen::Matrix3d shear = Eigen::Matrix3d::Identity();
   shear(0, 1) = 0.7, shear(2, 0) = -0.3;
-  for (const Eigen::Matrix3d& df : {Eigen::Matrix3d(stretch), Eigen::Matrix3d(shear * stretch),
-                                    Eigen::Matrix3d(0.3 * Eigen::Matrix3d::Identity())}) {
+  struct Case {
+    Eigen::Matrix3d df;
+    bool binned;  // searched by bins (else every pair: 2 bins on every axis)
+  };
+  for (const Case& c : {Case{stretch, true}, Case{shear * stretch, true},
+                        Case{0.3 * Eigen::Matrix3d::Identity(), false}}) {
+    const Eigen::Matrix3d& df = c.df;
     CloudParams cp;
     cp.n_spheres = 800;
     cp.seed = 9;
@@ -181,6 +186,8 @@ TEST(NativeNeighbourList, BinnedBuildListsTheAllPairsBuildsPairsInItsOrder) {
     }
     NeighbourList nl(0.5);
     nl.ensure(s);
+    ASSERT_EQ(nl.rebuilds(), 1);
+    EXPECT_EQ(nl.binned_builds(), c.binned ? 1 : 0);  // the path this case is meant to test
     const double r_min = *std::min_element(s.spheres.radius.begin(), s.spheres.radius.end());
     const std::vector<Row> expected = all_pairs_rows(s, 0.5 * r_min), found = list_rows(s, nl);
     std::size_t pairs = 0;

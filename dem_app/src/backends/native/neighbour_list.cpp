@@ -139,6 +139,7 @@ void NeighbourList::rebuild(const RveState& s) {
   }
   std::vector<std::uint32_t> bin_of, bin_start, bin_sphere;  // empty when searched whole
   if (!all_bins) {
+    ++binned_builds_;
     bin_of.resize(n);
     const std::size_t n_bins = static_cast<std::size_t>(nb[0]) * nb[1] * nb[2];
     for (std::size_t i = 0; i < n; ++i) {

@@ -56,6 +56,8 @@ class NeighbourList {
     moved_max_d2_ = max_d2, moved_iter_ = iter, moved_h_ = h, moved_a_ = a;
   }
   std::int64_t rebuilds() const { return rebuilds_; }
+  // Builds that searched by bins (the others tested every pair: a cell under 4 bins thick).
+  std::int64_t binned_builds() const { return binned_builds_; }
   std::size_t heap_bytes() const;  // allocated capacity of the list's arrays
 
   // Pairs of sphere i (< j) are the rows [row_begin(i), row_begin(i + 1)) (compressed rows).
@@ -94,7 +96,7 @@ class NeighbourList {
 
   double skin_factor_;
   bool valid_ = false;
-  std::int64_t rebuilds_ = 0;
+  std::int64_t rebuilds_ = 0, binned_builds_ = 0;
   double skin_ = 0, max_cutoff_ = 0;
   double ref_rounding_ = 0;  // max_i |x_i - x_ref_i| at the build (single precision)
   double ref_norm_ = 0;      // max_i |x_ref_i| (bounds the rounding of A x_ref)

@@ -43,7 +43,8 @@ class Run {
         opt_(opt),
         out_(opt.out ? *opt.out : std::cout),
         err_(opt.err ? *opt.err : std::cerr),
-        wall_start_(std::chrono::steady_clock::now()) {
+        clock_(opt.clock ? opt.clock : steady_seconds),
+        wall_start_(clock_()) {
     if (opt.threads > 0) scene_.solver.threads = opt.threads;
     if (scene_.solver.threads > 0) omp_set_num_threads(scene_.solver.threads);
     dir_ = opt.out_dir.empty() ? default_run_directory(scene_.name) : opt.out_dir;
@@ -67,9 +68,12 @@ class Run {
 
  private:
   RunSummary& s() { return result_.summary; }
-  double wall_time() const {
-    return wall_before_ +
-           std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start_).count();
+  // The run's wall time (also before a resume): what summary.json reports and what the
+  // time-triggered checkpoints count (RunOptions::clock).
+  double wall_time() const { return wall_before_ + (clock_() - wall_start_); }
+  static double steady_seconds() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
+        .count();
   }
 
   // Particles, provider and solver. Whatever can reject the scene is done before the run
@@ -491,7 +495,8 @@ class Run {
   const RunOptions& opt_;
   std::ostream& out_;
   std::ostream& err_;
-  std::chrono::steady_clock::time_point wall_start_;
+  std::function<double()> clock_;
+  double wall_start_;
   std::string dir_;
   bool dir_created_ = false;
   RunResult result_;

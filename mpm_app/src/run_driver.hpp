@@ -44,6 +44,10 @@ struct RunOptions {
   // faulty or instrumented providers through it).
   std::function<std::unique_ptr<ConstitutiveProvider>(const Scene&, std::size_t n_points)>
       provider_factory;
+  // If set, the wall clock (seconds from any fixed origin) that the run's wall time and its
+  // time-triggered checkpoints read instead of std::chrono::steady_clock (tests inject a
+  // deterministic one). The per-phase step timings always read the real clock.
+  std::function<double()> clock;
 };
 
 struct RunResult {

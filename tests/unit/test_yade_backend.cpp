@@ -9,7 +9,7 @@
 
 // The tests of this file, by name: a build without the YADE backend registers the same names,
 // each skipped, so that the test list is the same on every machine (and CTest reports them
-// skipped, not passed); ListMatchesTheBuildWithoutYade keeps the list equal to the tests.
+// skipped, not passed); YadeBackendTestList keeps the list equal to the tests.
 #define MPMDEM_YADE_BACKEND_TESTS(X)             \
   X(InitialStateIsConsolidatedToRveInitPressure) \
   X(StiffnessBoundsMeasuredConstrainedModulus)   \
@@ -17,8 +17,7 @@
   X(RateRuleTakesTheUpdatesDtOverTheDemStep)     \
   X(ThinCellIsTiledAndStaysExact)                \
   X(RestoreReproducesStressesAfterCheckpoint)    \
-  X(LostContactsGiveZeroStressAndFlagNeverNaN)   \
-  X(ListMatchesTheBuildWithoutYade)
+  X(LostContactsGiveZeroStressAndFlagNeverNaN)
 
 #ifdef MPMDEM_HAVE_YADE
 #define PY_SSIZE_T_CLEAN
@@ -338,7 +337,8 @@ TEST_F(YadeBackend, LostContactsGiveZeroStressAndFlagNeverNaN) {
   EXPECT_EQ(reply[1].status, static_cast<int>(protocol::RveStatus::kNoContacts));
 }
 
-TEST_F(YadeBackend, ListMatchesTheBuildWithoutYade) {
+// Its own suite (a plain TEST cannot join the fixture's), so that it does not start YADE.
+TEST(YadeBackendTestList, EqualsTheBuildWithoutYade) {
   const testing::TestSuite* suite = nullptr;
   const auto* unit = testing::UnitTest::GetInstance();
   for (int i = 0; i < unit->total_test_suite_count(); ++i) {
@@ -363,4 +363,7 @@ TEST_F(YadeBackend, ListMatchesTheBuildWithoutYade) {
                     "-DMPMDEM_WITH_YADE=ON; needs python3.11-dev and yade)";      \
   }
 MPMDEM_YADE_BACKEND_TESTS(MPMDEM_SKIPPED_TEST)
+TEST(YadeBackendTestList, EqualsTheBuildWithoutYade) {
+  GTEST_SKIP() << "no YADE backend: nothing to compare";
+}
 #endif

@@ -150,13 +150,8 @@ void check_flying_block(ShapeKind shape, Scheme scheme, Transfer transfer, doubl
   Vec3 L = Vec3::Zero();
   double I_zz = 0.0;
   const Particles& P = solver.particles();
-  Vec3 xc = Vec3::Zero();
-  double M = 0.0;
-  for (std::size_t q = 0; q < P.size(); ++q) {
-    xc += P.m[q] * P.x[q];
-    M += P.m[q];
-  }
-  xc /= M;
+  const Vec3 xc = centre_of_mass();
+  const double M = m_p;
   for (std::size_t q = 0; q < P.size(); ++q) {
     const Vec3 r = P.x[q] - xc;
     L += P.m[q] * r.cross(P.v[q]);

@@ -1,0 +1,6 @@
+# DEM on several nodes (issue 36): hosts A-D as network namespaces; one dem_app job per DEM
+# host, joined by mpm_app into one partition. Needs root: otherwise skipped (exit 77).
+#   multinode_netns: A | B, C, D (2 ranks each) bitwise equal to 6 ranks on one host, each
+#     host ran its ranks, --mpm-hosts checked (items 1-2).
+mpmdem_test(NAME multinode_netns COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/multinode.sh
+            TIMEOUT 120 LABELS integration no_asan SERIAL)

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cerrno>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -42,6 +43,10 @@ std::atomic<bool> g_abandoned{false};  // a connection was given up after its pe
 void Connection::abandon() {
   intercomm_ = MPI_COMM_NULL;
   g_abandoned = true;
+  // Peers that are gone have closed their TCP connections; a late write of Open MPI's to
+  // one would kill this process by SIGPIPE (exit 141 instead of its own code; seen with
+  // several DEM jobs). Ignored, the write fails and MPI_Finalize is bounded (MpiSession).
+  std::signal(SIGPIPE, SIG_IGN);
 }
 
 // ---------------------------------------------------------------------------------------

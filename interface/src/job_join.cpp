@@ -2,6 +2,7 @@
 #include "mpmdem/job_join.hpp"
 
 #include <cassert>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
@@ -119,6 +120,8 @@ MPI_Comm join_jobs_as_client(
       if (j > 0) {  // the jobs already joined would wait for a connect that never comes
         int word = kGaveUp;
         MPMDEM_CHECK_MPI(MPI_Bcast(&word, 1, MPI_INT, 0, group));
+        free_all(made);
+        std::signal(SIGPIPE, SIG_IGN);  // as Connection::abandon: they end now
       }
       throw;
     }
@@ -152,6 +155,7 @@ MPI_Comm join_jobs_as_server(MPI_Comm accepted, int jobs, int job, double wait_s
     }
     if (word == kDone) break;
     if (word == kGaveUp) {
+      free_all(made);
       throw PeerError("mpm_app found no port of the next DEM job and gave up (see its log)");
     }
     if (word <= job || word >= jobs) {

@@ -4,3 +4,8 @@
 #     host ran its ranks, --mpm-hosts checked (items 1-2).
 mpmdem_test(NAME multinode_netns COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/multinode.sh
             TIMEOUT 120 LABELS integration no_asan SERIAL)
+#   multinode_heal_netns: --on-fault resume; C's link cut after the first complete
+#     checkpoint: the run continues on B and D by itself, bitwise equal to an uninterrupted
+#     run, the fault in summary.json (item 3).
+mpmdem_test(NAME multinode_heal_netns COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/multinode_heal.sh
+            TIMEOUT 120 LABELS integration no_asan SERIAL)

@@ -9,3 +9,7 @@ mpmdem_test(NAME multinode_netns COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/multinod
 #     run, the fault in summary.json (item 3).
 mpmdem_test(NAME multinode_heal_netns COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/multinode_heal.sh
             TIMEOUT 120 LABELS integration no_asan SERIAL)
+#   multinode_local_jobs: the same join with the jobs on this machine (no root needed): 2 jobs
+#     bitwise equal to 1, a job that never comes, jobs started for another count.
+mpmdem_test(NAME multinode_local_jobs COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/multinode_local.sh
+            TIMEOUT 90 LABELS integration no_asan SERIAL)

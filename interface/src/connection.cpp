@@ -40,13 +40,17 @@ namespace {
 std::atomic<bool> g_abandoned{false};  // a connection was given up after its peer died
 }  // namespace
 
-void Connection::abandon() {
-  intercomm_ = MPI_COMM_NULL;
+void give_up_peers() {
   g_abandoned = true;
   // Peers that are gone have closed their TCP connections; a late write of Open MPI's to
   // one would kill this process by SIGPIPE (exit 141 instead of its own code; seen with
   // several DEM jobs). Ignored, the write fails and MPI_Finalize is bounded (MpiSession).
   std::signal(SIGPIPE, SIG_IGN);
+}
+
+void Connection::abandon() {
+  intercomm_ = MPI_COMM_NULL;
+  give_up_peers();
 }
 
 // ---------------------------------------------------------------------------------------

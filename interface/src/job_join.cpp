@@ -2,7 +2,6 @@
 #include "mpmdem/job_join.hpp"
 
 #include <cassert>
-#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
@@ -106,12 +105,32 @@ std::string job_service_name(const std::string& base, int job, int jobs) {
   return jobs <= 1 ? base : base + ".job" + std::to_string(job);
 }
 
-MPI_Comm join_jobs_as_client(
+namespace {
+
+// A join that fails ends the processes of every job at different moments: this process
+// frees the join's communicators and gives its peers up (give_up_peers: a late write to one
+// that is gone killed a DEM rank by SIGPIPE in 1 of 3 refused launches; MPI_Finalize bounded
+// by 5 s).
+template <class F>
+MPI_Comm or_give_up(std::vector<MPI_Comm>& made, F&& join) {
+  try {
+    return join();
+  } catch (...) {
+    for (MPI_Comm& c : made) MPI_Comm_free(&c);  // unchecked: already failing
+    made.clear();
+    give_up_peers();
+    throw;
+  }
+}
+
+// The joins; `made` collects the communicators they create (freed on success here, on a
+// failure by or_give_up).
+MPI_Comm join_client(
     int jobs, const std::function<std::string(int job)>& find_port,
-    const std::function<MPI_Comm(const std::string& port, MPI_Comm group)>& connect) {
+    const std::function<MPI_Comm(const std::string& port, MPI_Comm group)>& connect,
+    std::vector<MPI_Comm>& made) {
   assert(jobs >= 2);
   MPI_Comm group = MPI_COMM_SELF;
-  std::vector<MPI_Comm> made;
   for (int j = 0; j < jobs; ++j) {
     std::string port;
     try {
@@ -120,8 +139,6 @@ MPI_Comm join_jobs_as_client(
       if (j > 0) {  // the jobs already joined would wait for a connect that never comes
         int word = kGaveUp;
         MPMDEM_CHECK_MPI(MPI_Bcast(&word, 1, MPI_INT, 0, group));
-        free_all(made);
-        std::signal(SIGPIPE, SIG_IGN);  // as Connection::abandon: they end now
       }
       throw;
     }
@@ -141,11 +158,12 @@ MPI_Comm join_jobs_as_client(
   return joined;
 }
 
-MPI_Comm join_jobs_as_server(MPI_Comm accepted, int jobs, int job, double wait_s,
-                             MPI_Comm& servers) {
+MPI_Comm join_server(MPI_Comm accepted, int jobs, int job, double wait_s, MPI_Comm& servers,
+                     std::vector<MPI_Comm>& made) {
   assert(jobs >= 2 && job >= 0 && job < jobs);
+  made.push_back(accepted);
   MPI_Comm group = merge(accepted, true);
-  std::vector<MPI_Comm> made{accepted, group};
+  made.push_back(group);
   check_join(group, jobs, job, jobs, job);
   for (;;) {
     int word = 0;
@@ -155,7 +173,6 @@ MPI_Comm join_jobs_as_server(MPI_Comm accepted, int jobs, int job, double wait_s
     }
     if (word == kDone) break;
     if (word == kGaveUp) {
-      free_all(made);
       throw PeerError("mpm_app found no port of the next DEM job and gave up (see its log)");
     }
     if (word <= job || word >= jobs) {
@@ -178,6 +195,21 @@ MPI_Comm join_jobs_as_server(MPI_Comm accepted, int jobs, int job, double wait_s
   const MPI_Comm joined = split_sides(group, true, servers);
   free_all(made);
   return joined;
+}
+
+}  // namespace
+
+MPI_Comm join_jobs_as_client(
+    int jobs, const std::function<std::string(int job)>& find_port,
+    const std::function<MPI_Comm(const std::string& port, MPI_Comm group)>& connect) {
+  std::vector<MPI_Comm> made;
+  return or_give_up(made, [&] { return join_client(jobs, find_port, connect, made); });
+}
+
+MPI_Comm join_jobs_as_server(MPI_Comm accepted, int jobs, int job, double wait_s,
+                             MPI_Comm& servers) {
+  std::vector<MPI_Comm> made;
+  return or_give_up(made, [&] { return join_server(accepted, jobs, job, wait_s, servers, made); });
 }
 
 }  // namespace mpmdem

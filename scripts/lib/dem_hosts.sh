@@ -7,7 +7,7 @@
 #   hosts_is_local HOST          true for this machine (localhost, its host names)
 #   hosts_check_mpm SPEC         refuses (2) an MPM host that is not this machine
 #   dem_jobs_plan SPEC RANKS DEFAULT   sets DEM_JOB_HOSTS / DEM_JOB_RANKS: one DEM job per
-#                                host (RANKS: --dem-ranks or empty; DEFAULT: its default)
+#                                host (RANKS: --dem-ranks or empty; DEFAULT: ranks per host)
 # Open MPI 4.1.4 connects two mpirun jobs only when each job's ranks run on its own mpirun's
 # node (open-mpi/ompi#6818): so one DEM job per DEM host, each started on its host, and
 # mpm_app's mpirun where scripts/run runs.
@@ -65,8 +65,10 @@ hosts_check_mpm() {
 }
 
 # One DEM job per host entry. Ranks of a job: its slots; without slots, an even share of
-# --dem-ranks (or of the backend's default), the first jobs getting the remainder. A list
-# with slots on some hosts only is refused, as is a --dem-ranks that differs from the sum.
+# --dem-ranks, the first jobs getting the remainder, or, without --dem-ranks, DEFAULT per
+# host (the backend's default: one per core of this machine for yade and native, as on
+# nodes alike). A list with slots on some hosts only is refused, as is a --dem-ranks that
+# differs from the sum of the slots.
 DEM_JOB_HOSTS=()
 DEM_JOB_RANKS=()
 dem_jobs_plan() {
@@ -91,7 +93,11 @@ dem_jobs_plan() {
     fi
     return 0
   fi
-  local total=${ranks:-$default}
+  if [[ -z $ranks ]]; then
+    for ((j = 0; j < k; j++)); do DEM_JOB_RANKS[j]=$default; done
+    return 0
+  fi
+  local total=$ranks
   if ((total < k)); then
     echo "run: $total DEM rank(s) for ${k} DEM hosts: give --dem-ranks >= $k or slots per host (h1:4,h2:4)" >&2
     return 2

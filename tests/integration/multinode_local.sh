@@ -7,7 +7,8 @@
 #   2. a job that never comes (2 joined, 1 started): mpm_app and the started job end with 4
 #      within coupling.connect_timeout_s + 15 s, naming the missing job's port / giving up;
 #   3. jobs started for 3 while mpm_app joins 2: refused on both sides (exit 4), naming both
-#      counts.
+#      counts;
+#   4. malformed DEM host specs: refused by scripts/run before anything starts (exit 2).
 # Every process is stopped by PID (pair.sh's trap). Env: MPMDEM_BIN, MPMDEM_SRC.
 set -uo pipefail
 src=${MPMDEM_SRC:-$(cd "$(dirname "$0")/../.." && pwd)}
@@ -47,6 +48,19 @@ grep -q "3 rank(s) in 2 jobs" "$logs/mpm_app.log" && grep -q "load balance: RVEs
   [[ $(grep -cE "^dem_app: timing rank [12]: $steps steps" "$logs/dem_app.job1.log") == 2 ]] &&
   ok "mpm_app joined 2 jobs; rank 0 in job 0, ranks 1-2 in job 1 ran $steps steps; RVEs migrated" ||
   { fail "2 jobs: logs"; tail -n 5 "$logs"/*.log >&2; }
+
+# Host specs scripts/run refuses before anything starts (exit 2, saying what to change).
+refused() {
+  local what=$1 expect=$2 rc=0
+  shift 2
+  "$src/scripts/run" "$work/scene.yaml" --out "$work/refused" "$@" >"$work/refused.log" 2>&1 || rc=$?
+  ((rc == 2)) && [[ ! -e $work/refused ]] && grep -q -- "$expect" "$work/refused.log" && ok "refused: $what" ||
+    { fail "$what: exit $rc"; cat "$work/refused.log" >&2; }
+}
+refused "slots on some hosts only" "give slots for every host or for none" --dem-hosts localhost:2,localhost
+refused "--dem-ranks other than the slots' sum" "--dem-ranks 5 differs from the 3 slots" \
+  --dem-hosts localhost:1,localhost:2 --dem-ranks 5
+refused "fewer ranks than hosts" "1 DEM rank(s) for 2 DEM hosts" --dem-hosts localhost,localhost --dem-ranks 1
 
 # 2 and 3 with pair.sh directly (scripts/run always starts matching jobs).
 # shellcheck source=../../scripts/lib/pair.sh

@@ -56,6 +56,11 @@ class Watchdog {
   std::thread thread_;
 };
 
+// The coupling's peers are gone or the coupling failed before it was made (a refused join):
+// MPI_Finalize is bounded by 5 s instead of 30 (MpiSession), and SIGPIPE is ignored (a late
+// write to a peer that has exited must not kill this process with 141 instead of its code).
+void give_up_peers();
+
 struct ConnectOptions {
   std::string service_name = "mpmdem";  // MPI_Publish_name / MPI_Lookup_name key
   std::filesystem::path port_file;      // <run_dir>/<coupling.port_file>; empty: none

@@ -40,10 +40,11 @@ void add_coupling_keys(config::Schema& s) {
             .gt(0));
   s.add(key("coupling.peer_timeout_s", Type::kDouble, "s",
             "longest mpm_app waits for one exchange with the DEM server before it gives up "
-            "naming the server ranks it cannot probe (a rank on another host that died or "
-            "hangs); ranks on mpm_app's host are probed every 0.25 s and a dead one ends the "
-            "wait at once. 0: no limit")
-            .def("3600")
+            "naming the server ranks it cannot probe (a rank on another host that died, hangs "
+            "or was cut off: detected after this long); ranks on mpm_app's host are probed "
+            "every 0.25 s and a dead one ends the wait at once. Raise it above the slowest "
+            "legitimate exchange (kInitialise of a rank's RVEs, a checkpoint). 0: no limit")
+            .def("300")
             .ge(0));
   s.add(key("coupling.port_file", Type::kString, "",
             "file holding the server's MPI port name, relative to the run directory; "

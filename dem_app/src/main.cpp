@@ -3,6 +3,7 @@
 //
 //   mpirun --ompi-server file:URI -np N dem_app --backend elastic|native|yade --scene FILE
 //          --run-dir DIR [--restore CHECKPOINT_DIR] [--timeout S] [--idle-timeout S]
+//          [--jobs K --job-index J]
 //   dem_app --check-config FILE      validate the scene's coupling: section as the server would
 //                                    (no MPI; for scripts/run, before anything runs)
 //   dem_app --print-backend FILE     coupling.backend of a scene (no MPI; for scripts/run)
@@ -33,6 +34,7 @@ namespace {
 constexpr const char* kUsage =
     "usage: dem_app --backend elastic|native|yade --scene FILE --run-dir DIR\n"
     "               [--restore CHECKPOINT_DIR] [--timeout S] [--idle-timeout S]\n"
+    "               [--jobs K --job-index J]\n"
     "  --backend   RVE backend; must equal coupling.backend of the scene\n"
     "  --scene     scene YAML; only config_version and coupling: are read\n"
     "  --run-dir   run directory shared with mpm_app (--out): the port file goes there\n"
@@ -40,6 +42,9 @@ constexpr const char* kUsage =
     "  --timeout   seconds to wait for mpm_app (default coupling.connect_timeout_s)\n"
     "  --idle-timeout  exit if mpm_app sends nothing for this long (default 600 s;\n"
     "              0: wait forever). Open MPI does not report a killed peer.\n"
+    "  --jobs, --job-index  this mpirun job is job J (0-based) of K DEM jobs that mpm_app\n"
+    "              (--dem-jobs K) joins into one partition: one job per node (Open MPI\n"
+    "              4.1; docs/cluster.md). Default 1 job.\n"
     "       dem_app --check-config FILE    validate the scene's coupling: section and exit\n"
     "       dem_app --print-backend FILE   print coupling.backend of a scene and exit\n"
     "       dem_app --print-port-file FILE print coupling.port_file of a scene and exit\n"
@@ -50,6 +55,7 @@ struct Args {
   std::string backend, scene, run_dir, restore;
   std::optional<double> timeout;
   double idle_timeout = 600.0;
+  int jobs = 1, job_index = 0;
 };
 
 struct UsageError : std::runtime_error {
@@ -97,9 +103,22 @@ Args parse(int argc, char** argv) {
       } else {
         a.timeout = t;
       }
+    } else if (key == "--jobs" || key == "--job-index") {
+      char* end = nullptr;
+      const long n = std::strtol(value.c_str(), &end, 10);
+      const long lowest = key == "--jobs" ? 1 : 0;
+      if (end == value.c_str() || *end != '\0' || n < lowest || n > 4096) {
+        throw UsageError(key + " must be a whole number >= " + std::to_string(lowest) + ", got '" +
+                         value + "'");
+      }
+      (key == "--jobs" ? a.jobs : a.job_index) = static_cast<int>(n);
     } else {
       throw UsageError("unknown option '" + key + "'");
     }
+  }
+  if (a.job_index >= a.jobs) {
+    throw UsageError("--job-index " + std::to_string(a.job_index) + " is not below --jobs " +
+                     std::to_string(a.jobs) + " (job indices are 0-based)");
   }
   if (a.backend.empty()) throw UsageError("--backend is required");
   if (a.scene.empty()) throw UsageError("--scene is required");
@@ -145,6 +164,8 @@ int run(int argc, char** argv, int rank) {
   opts.connect.port_file = opts.run_dir / cfg->string("coupling.port_file");
   opts.connect.timeout_s = args.timeout.value_or(cfg->number("coupling.connect_timeout_s"));
   opts.connect.config_file = args.scene;
+  opts.connect.jobs = args.jobs;
+  opts.connect.job_index = args.job_index;
 
   const auto& config = *cfg;
   return mpmdem::dem::serve(opts, [&](const mpmdem::dem::BackendContext& ctx) {

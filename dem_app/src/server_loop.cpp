@@ -246,7 +246,7 @@ int serve(const ServerOptions& opts, const BackendMaker& make_backend) {
           ++steps;
         } else if (kind == MessageKind::kRebalance) {
           // Every rank knows the old partition (the default one or the last one sent).
-          migrate(*backend, parts, next_parts, ctx.rank, MPI_COMM_WORLD);
+          migrate(*backend, parts, next_parts, ctx.rank, channel.comm());
           parts = next_parts;
           const Partition mine = parts[static_cast<std::size_t>(ctx.rank)];
           ctx.first_rve = mine.offset;

@@ -28,8 +28,9 @@ struct ServerOptions {
 
 using BackendMaker = std::function<std::unique_ptr<RveBackend>(const BackendContext&)>;
 
-// Collective over MPI_COMM_WORLD. Returns 0 after Shutdown, kExitPeerError after the
-// client aborted. Throws HandshakeError (exit 3) and PeerError (exit 4).
+// Collective over MPI_COMM_WORLD (and, with several jobs, over theirs: connect.jobs). Returns 0
+// after Shutdown, kExitPeerError after the client aborted. Throws HandshakeError (exit 3) and
+// PeerError (exit 4).
 int serve(const ServerOptions& opts, const BackendMaker& make_backend);
 
 }  // namespace mpmdem::dem

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cerrno>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -17,6 +18,7 @@
 #include <vector>
 
 #include "mpmdem/errors.hpp"
+#include "mpmdem/job_join.hpp"
 
 namespace mpmdem {
 
@@ -38,9 +40,17 @@ namespace {
 std::atomic<bool> g_abandoned{false};  // a connection was given up after its peer died
 }  // namespace
 
+void give_up_peers() {
+  g_abandoned = true;
+  // Peers that are gone have closed their TCP connections; a late write of Open MPI's to
+  // one would kill this process by SIGPIPE (exit 141 instead of its own code; seen with
+  // several DEM jobs). Ignored, the write fails and MPI_Finalize is bounded (MpiSession).
+  std::signal(SIGPIPE, SIG_IGN);
+}
+
 void Connection::abandon() {
   intercomm_ = MPI_COMM_NULL;
-  g_abandoned = true;
+  give_up_peers();
 }
 
 // ---------------------------------------------------------------------------------------
@@ -161,6 +171,11 @@ Connection Connection::accept(const ConnectOptions& opts, MPI_Comm local) {
   MPMDEM_CHECK_MPI(MPI_Comm_set_errhandler(local, MPI_ERRORS_RETURN));
   MPMDEM_CHECK_MPI(MPI_Comm_rank(local, &c.local_rank_));
   MPMDEM_CHECK_MPI(MPI_Comm_size(local, &c.local_size_));
+  c.local_comm_ = local;
+  // Job `job_index` of several DEM jobs accepts on its own port (job_join.hpp).
+  const std::string service = job_service_name(opts.service_name, opts.job_index, opts.jobs);
+  const std::filesystem::path own_port_file =
+      job_port_file(opts.port_file, opts.job_index, opts.jobs);
 
   // Rank 0 opens and announces the port; the others learn whether that worked, so that a
   // failure (e.g. an unwritable run directory) ends every rank instead of leaving the
@@ -174,17 +189,17 @@ Connection Connection::accept(const ConnectOptions& opts, MPI_Comm local) {
       MPMDEM_CHECK_MPI(MPI_Open_port(MPI_INFO_NULL, port.data()));
       port_open = true;
       if (opts.publish) {
-        const int rc = MPI_Publish_name(opts.service_name.c_str(), MPI_INFO_NULL, port.data());
+        const int rc = MPI_Publish_name(service.c_str(), MPI_INFO_NULL, port.data());
         published = rc == MPI_SUCCESS;
         if (!published) {
-          std::cerr << "dem_app: warning: could not publish service '" << opts.service_name << "' ("
+          std::cerr << "dem_app: warning: could not publish service '" << service << "' ("
                     << mpi_error_string(rc) << "); no ompi-server? Clients must find the port file "
-                    << (opts.port_file.empty() ? std::string("(none configured!)")
-                                               : opts.port_file.string())
+                    << (own_port_file.empty() ? std::string("(none configured!)")
+                                              : own_port_file.string())
                     << std::endl;
         }
       }
-      if (!opts.port_file.empty()) write_port_file(opts.port_file, port.data());
+      if (!own_port_file.empty()) write_port_file(own_port_file, port.data());
     } catch (const PeerError& e) {
       failure = e.what();
     }
@@ -193,23 +208,23 @@ Connection Connection::accept(const ConnectOptions& opts, MPI_Comm local) {
   MPMDEM_CHECK_MPI(MPI_Bcast(&ok, 1, MPI_INT, 0, local));
   if (!ok) {
     if (c.local_rank_ == 0) {
-      if (published) MPI_Unpublish_name(opts.service_name.c_str(), MPI_INFO_NULL, port.data());
+      if (published) MPI_Unpublish_name(service.c_str(), MPI_INFO_NULL, port.data());
       if (port_open) MPI_Close_port(port.data());
       throw PeerError(failure);
     }
     throw PeerError("rank 0 could not open or announce the MPI port");
   }
   if (c.local_rank_ == 0) {
-    std::cerr << "dem_app: waiting for mpm_app on service '" << opts.service_name << "'"
-              << (opts.port_file.empty() ? std::string()
-                                         : " (port file " + opts.port_file.string() + ")")
+    std::cerr << "dem_app: waiting for mpm_app on service '" << service << "'"
+              << (own_port_file.empty() ? std::string()
+                                        : " (port file " + own_port_file.string() + ")")
               << ", timeout " << format_seconds(opts.timeout_s) << " s" << std::endl;
   }
 
   // Non-root ranks wait a little longer so that rank 0 prints the message first.
   const double limit = opts.timeout_s + (c.local_rank_ == 0 ? 0.0 : 5.0);
   const bool root = c.local_rank_ == 0;
-  const std::filesystem::path port_file = opts.port_file;
+  const std::filesystem::path port_file = own_port_file;
   const std::string timeout_text = format_seconds(opts.timeout_s);
   Watchdog watchdog(limit, [root, port_file, timeout_text] {
     if (root) {
@@ -227,17 +242,83 @@ Connection Connection::accept(const ConnectOptions& opts, MPI_Comm local) {
   const int rc = MPI_Comm_accept(port.data(), MPI_INFO_NULL, 0, local, &c.intercomm_);
   watchdog.cancel();
   if (root) {
-    remove_quietly(opts.port_file);
-    if (published) MPI_Unpublish_name(opts.service_name.c_str(), MPI_INFO_NULL, port.data());
+    remove_quietly(own_port_file);
+    if (published) MPI_Unpublish_name(service.c_str(), MPI_INFO_NULL, port.data());
     MPI_Close_port(port.data());
   }
   if (rc != MPI_SUCCESS) {
     throw PeerError("MPI_Comm_accept failed: " + mpi_error_string(rc) + "; " + launch_hint());
   }
   MPMDEM_CHECK_MPI(MPI_Comm_set_errhandler(c.intercomm_, MPI_ERRORS_RETURN));
+  if (opts.jobs > 1) {
+    MPI_Comm servers = MPI_COMM_NULL;
+    c.intercomm_ = join_jobs_as_server(c.intercomm_, opts.jobs, opts.job_index,
+                                       opts.timeout_s + 10.0, servers);
+    c.local_comm_ = servers;
+    MPMDEM_CHECK_MPI(MPI_Comm_rank(servers, &c.local_rank_));
+    MPMDEM_CHECK_MPI(MPI_Comm_size(servers, &c.local_size_));
+  }
   MPMDEM_CHECK_MPI(MPI_Comm_remote_size(c.intercomm_, &c.remote_size_));
   return c;
 }
+
+namespace {
+
+// Client: the port of the server job named by `service`/`port_file`, polled every 0.2 s
+// until `deadline`. Throws ConnectTimeout.
+std::string find_port(const ConnectOptions& opts, const std::string& service,
+                      const std::filesystem::path& port_file,
+                      std::chrono::steady_clock::time_point deadline) {
+  std::vector<char> port(MPI_MAX_PORT_NAME + 1, '\0');
+  std::string name;
+  for (;;) {
+    if (!port_file.empty() && read_port_file(port_file, name)) return name;
+    if (opts.publish &&
+        MPI_Lookup_name(service.c_str(), MPI_INFO_NULL, port.data()) == MPI_SUCCESS) {
+      return port.data();
+    }
+    if (std::chrono::steady_clock::now() >= deadline) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  std::ostringstream msg;
+  msg << "no DEM server found within " << format_seconds(opts.timeout_s)
+      << " s (coupling.connect_timeout_s): service '" << service
+      << "' is not published and the port file "
+      << (port_file.empty() ? std::string("(none)") : port_file.string())
+      << " does not exist: start dem_app first (with --run-dir set to this run's output "
+         "folder), or "
+      << launch_hint();
+  throw ConnectTimeout(msg.str());
+}
+
+// Client: MPI_Comm_connect of `local` (collective) to `port`, bounded by a watchdog (a
+// connect to a port nobody accepts on may hang).
+MPI_Comm connect_port(const std::string& port, MPI_Comm local, const std::string& service,
+                      std::chrono::steady_clock::time_point deadline) {
+  const double remaining = std::max(
+      5.0, std::chrono::duration<double>(deadline - std::chrono::steady_clock::now()).count());
+  Watchdog watchdog(remaining, [service] {
+    std::fprintf(stderr,
+                 "mpm_app: error: MPI_Comm_connect to DEM server '%s' did not complete "
+                 "(stale port file? server died?)\n",
+                 service.c_str());
+    std::fflush(stderr);
+    std::_Exit(kExitPeerError);
+  });
+  std::vector<char> name(MPI_MAX_PORT_NAME + 1, '\0');
+  std::copy(port.begin(), port.end(), name.begin());
+  MPI_Comm intercomm = MPI_COMM_NULL;
+  const int rc = MPI_Comm_connect(name.data(), MPI_INFO_NULL, 0, local, &intercomm);
+  watchdog.cancel();
+  if (rc != MPI_SUCCESS) {
+    throw PeerError("MPI_Comm_connect to DEM server '" + service +
+                    "' failed: " + mpi_error_string(rc) + "; " + launch_hint());
+  }
+  MPMDEM_CHECK_MPI(MPI_Comm_set_errhandler(intercomm, MPI_ERRORS_RETURN));
+  return intercomm;
+}
+
+}  // namespace
 
 Connection Connection::connect(const ConnectOptions& opts, MPI_Comm local) {
   using clock = std::chrono::steady_clock;
@@ -247,67 +328,52 @@ Connection Connection::connect(const ConnectOptions& opts, MPI_Comm local) {
   MPMDEM_CHECK_MPI(MPI_Comm_set_errhandler(local, MPI_ERRORS_RETURN));
   MPMDEM_CHECK_MPI(MPI_Comm_rank(local, &c.local_rank_));
   MPMDEM_CHECK_MPI(MPI_Comm_size(local, &c.local_size_));
+  c.local_comm_ = local;
 
-  const auto start = clock::now();
-  const auto deadline = start + std::chrono::duration_cast<clock::duration>(
-                                    std::chrono::duration<double>(opts.timeout_s));
-  std::vector<char> port(MPI_MAX_PORT_NAME + 1, '\0');
-  int found = 0;
+  if (opts.jobs > 1) {  // several DEM jobs: joined one after another (job_join.hpp)
+    if (c.local_size_ != 1) throw PeerError("joining several DEM jobs needs a one-rank client");
+    const auto job_deadline = [&opts] {
+      return clock::now() + std::chrono::duration_cast<clock::duration>(
+                                std::chrono::duration<double>(opts.timeout_s));
+    };
+    c.intercomm_ = join_jobs_as_client(
+        opts.jobs,
+        [&](int j) {
+          return find_port(opts, job_service_name(opts.service_name, j, opts.jobs),
+                           job_port_file(opts.port_file, j, opts.jobs), job_deadline());
+        },
+        [&](const std::string& port, MPI_Comm group) {
+          return connect_port(port, group, opts.service_name, job_deadline());
+        });
+    MPMDEM_CHECK_MPI(MPI_Comm_remote_size(c.intercomm_, &c.remote_size_));
+    return c;
+  }
+
+  const auto deadline = clock::now() + std::chrono::duration_cast<clock::duration>(
+                                           std::chrono::duration<double>(opts.timeout_s));
+  std::string port;
+  int found = 1;
+  std::string failure;
   if (c.local_rank_ == 0) {
-    std::string name;
-    for (;;) {
-      if (!opts.port_file.empty() && read_port_file(opts.port_file, name)) {
-        std::copy(name.begin(), name.end(), port.begin());
-        found = 1;
-        break;
-      }
-      if (opts.publish &&
-          MPI_Lookup_name(opts.service_name.c_str(), MPI_INFO_NULL, port.data()) == MPI_SUCCESS) {
-        found = 1;
-        break;
-      }
-      if (clock::now() >= deadline) break;
-      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    try {
+      port = find_port(opts, opts.service_name, opts.port_file, deadline);
+    } catch (const ConnectTimeout& e) {
+      found = 0;
+      failure = e.what();
     }
   }
   if (c.local_size_ > 1) MPMDEM_CHECK_MPI(MPI_Bcast(&found, 1, MPI_INT, 0, local));
   if (!found) {
-    std::ostringstream msg;
-    msg << "no DEM server found within " << format_seconds(opts.timeout_s)
-        << " s (coupling.connect_timeout_s): service '" << opts.service_name
-        << "' is not published and the port file "
-        << (opts.port_file.empty() ? std::string("(none)") : opts.port_file.string())
-        << " does not exist: start dem_app first (with --run-dir set to this run's output "
-           "folder), or "
-        << launch_hint();
-    throw ConnectTimeout(msg.str());
+    throw ConnectTimeout(failure.empty() ? "no DEM server found by client rank 0" : failure);
   }
-
-  // MPI_Comm_connect to a port nobody accepts on may hang: bound it.
-  const double remaining =
-      std::max(5.0, std::chrono::duration<double>(deadline - clock::now()).count());
-  const std::string service = opts.service_name;
-  Watchdog watchdog(remaining, [service] {
-    std::fprintf(stderr,
-                 "mpm_app: error: MPI_Comm_connect to DEM server '%s' did not complete "
-                 "(stale port file? server died?)\n",
-                 service.c_str());
-    std::fflush(stderr);
-    std::_Exit(kExitPeerError);
-  });
-  const int rc = MPI_Comm_connect(port.data(), MPI_INFO_NULL, 0, local, &c.intercomm_);
-  watchdog.cancel();
-  if (rc != MPI_SUCCESS) {
-    throw PeerError("MPI_Comm_connect to DEM server '" + opts.service_name +
-                    "' failed: " + mpi_error_string(rc) + "; " + launch_hint());
-  }
-  MPMDEM_CHECK_MPI(MPI_Comm_set_errhandler(c.intercomm_, MPI_ERRORS_RETURN));
+  c.intercomm_ = connect_port(port, local, opts.service_name, deadline);
   MPMDEM_CHECK_MPI(MPI_Comm_remote_size(c.intercomm_, &c.remote_size_));
   return c;
 }
 
 Connection::Connection(Connection&& other) noexcept
     : intercomm_(std::exchange(other.intercomm_, MPI_COMM_NULL)),
+      local_comm_(other.local_comm_),
       local_rank_(other.local_rank_),
       local_size_(other.local_size_),
       remote_size_(other.remote_size_) {}
@@ -315,6 +381,7 @@ Connection::Connection(Connection&& other) noexcept
 Connection& Connection::operator=(Connection&& other) noexcept {
   if (this != &other) {
     intercomm_ = std::exchange(other.intercomm_, MPI_COMM_NULL);
+    local_comm_ = other.local_comm_;
     local_rank_ = other.local_rank_;
     local_size_ = other.local_size_;
     remote_size_ = other.remote_size_;

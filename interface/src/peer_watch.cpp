@@ -31,6 +31,34 @@ std::string list(const std::vector<int>& ranks, const PeerWatch& w) {
   return out;
 }
 
+// The hosts of `ranks` (one per rank) and a summary by host: "host c: ranks 2, 3".
+std::vector<std::string> hosts_of(const std::vector<int>& ranks, const PeerWatch& w) {
+  std::vector<std::string> hosts;
+  for (int r : ranks) {
+    const auto i = static_cast<std::size_t>(r);
+    hosts.push_back(r >= 0 && i < w.peers().size() ? host_of(w.peers()[i]) : std::string());
+  }
+  return hosts;
+}
+
+std::string by_host(const std::vector<int>& ranks, const std::vector<std::string>& hosts) {
+  std::vector<std::string> order;
+  for (const std::string& h : hosts)
+    if (std::find(order.begin(), order.end(), h) == order.end()) order.push_back(h);
+  std::string out;
+  for (const std::string& h : order) {
+    std::string those;
+    int n = 0;
+    for (std::size_t i = 0; i < ranks.size(); ++i) {
+      if (hosts[i] != h) continue;
+      those += (n++ ? ", " : "") + std::to_string(ranks[i]);
+    }
+    out += (out.empty() ? "" : "; ") + std::string("host ") + h + (n > 1 ? ": ranks " : ": rank ") +
+           those;
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string this_host_name() {
@@ -117,9 +145,10 @@ void PeerWatch::wait_each(std::vector<MPI_Request>& requests, const std::vector<
     if (now < next_probe) continue;
     next_probe = now + seconds(probe_interval_s_);
     if (const std::vector<int> dead = dead_ranks(); !dead.empty()) {
-      throw PeerLost(
-          list(dead, *this) + " died" + " during " + during + " (the process no longer exists)",
-          dead);
+      const std::vector<std::string> hosts = hosts_of(dead, *this);
+      throw PeerLost(list(dead, *this) + " died" + " during " + during +
+                         " (the process no longer exists; " + by_host(dead, hosts) + ")",
+                     dead, hosts, PeerLost::Kind::kDied, true);
     }
     const double waited = std::chrono::duration<double>(now - start).count();
     if (stall_limit_s_ > 0.0 && waited > stall_limit_s_) {
@@ -130,7 +159,8 @@ void PeerWatch::wait_each(std::vector<MPI_Request>& requests, const std::vector<
         msg << "no reply from " << list(named, *this) << " within " << stall_limit_s_
             << " s (coupling.peer_timeout_s) during " << during << " ("
             << requests.size() - pending.size() << " of " << requests.size()
-            << " server ranks replied): unreachable, hung or dead";
+            << " server ranks replied): unreachable, hung or dead ("
+            << by_host(named, hosts_of(named, *this)) << ")";
       } else {
         for (std::size_t r = 0; r < peers_.size(); ++r)
           if (!probeable(peers_[r])) named.push_back(static_cast<int>(r));
@@ -143,7 +173,8 @@ void PeerWatch::wait_each(std::vector<MPI_Request>& requests, const std::vector<
         }
       }
       msg << ". Raise coupling.peer_timeout_s if one exchange can legitimately take longer";
-      throw PeerLost(msg.str(), named);
+      throw PeerLost(msg.str(), named, hosts_of(named, *this), PeerLost::Kind::kNoReply,
+                     !from.empty());
     }
   }
 }

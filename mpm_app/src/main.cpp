@@ -2,6 +2,7 @@
 //   mpm_app SCENE.yaml [--out DIR] [--threads T] [--force]   run a scene
 //   mpm_app SCENE.yaml ... --max-steps N                     stop after N steps (benchmarks)
 //   mpm_app SCENE.yaml --out RUN --resume CHECKPOINT|latest   continue a checkpointed run
+//   mpm_app SCENE.yaml ... --dem-jobs K        join K dem_app jobs (one per DEM node)
 //   mpm_app --check-config FILE                            validate a scene, count points
 //   mpm_app --print-config-reference                       every key: type, default, unit
 //   mpm_app --print-model FILE                 linear_elastic | drucker_prager | remote
@@ -54,7 +55,7 @@ int print_model(const std::string& file) {
   }
 }
 
-int run(const std::string& file, const RunOptions& options) {
+int run(const std::string& file, const RunOptions& options, int dem_jobs) {
   if (!options.resume.empty() && options.out_dir.empty()) {
     std::cerr << "error: --resume needs --out RUN (the run directory to continue)" << std::endl;
     return kExitConfig;
@@ -66,6 +67,12 @@ int run(const std::string& file, const RunOptions& options) {
     std::cerr << "error: " << e.what() << std::endl;
     return kExitConfig;
   }
+  if (dem_jobs > 1 && scene.constitutive.model != ModelKind::kRemote) {
+    std::cerr << "error: --dem-jobs " << dem_jobs << " needs a scene with constitutive.model "
+              << "remote (" << file << " has a local model)" << std::endl;
+    return kExitConfig;
+  }
+  scene.coupling.dem_jobs = dem_jobs;
   // MPI only for the remote model: the local one must run without any MPI environment.
   // MpiSession bounds MPI_Finalize when the peer has died.
   std::optional<mpmdem::MpiSession> mpi;
@@ -87,6 +94,7 @@ int main(int argc, char** argv) {
   std::string scene_file, check_file, model_file;
   RunOptions options;
   bool print_reference = false, version = false;
+  int dem_jobs = 1;
   app.add_option("scene", scene_file, "scene file (YAML) to run");
   app.add_option("--out", options.out_dir,
                  "run directory (default: runs/<scene>-<UTC yyyymmdd-HHMMSS>)");
@@ -100,6 +108,10 @@ int main(int argc, char** argv) {
                  "stop after this many steps (status 'truncated', exit 0): a fixed workload "
                  "for benchmarks")
       ->check(CLI::Range(std::int64_t{1}, std::int64_t{1} << 62));
+  app.add_option("--dem-jobs", dem_jobs,
+                 "join this many dem_app jobs (started with --jobs K --job-index 0..K-1) into "
+                 "one DEM partition: one job per DEM node (docs/cluster.md)")
+      ->check(CLI::Range(1, 4096));
   app.add_option("--check-config", check_file, "validate a scene file and exit");
   app.add_flag("--print-config-reference", print_reference,
                "print every config key (type, default, unit, range, doc) and exit");
@@ -129,5 +141,5 @@ int main(int argc, char** argv) {
     std::cerr << "error: no scene file given\n" << app.help() << std::endl;
     return kExitConfig;
   }
-  return run(scene_file, options);
+  return run(scene_file, options, dem_jobs);
 }

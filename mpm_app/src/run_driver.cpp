@@ -180,6 +180,7 @@ class Run {
     sum.dt_min_s = resumed_.dt_min_s;
     sum.dt_max_s = resumed_.dt_max_s;
     wall_before_ = resumed_.wall_time_s;
+    newest_checkpoint_wall_s_ = resumed_.wall_time_s;
     sum.status = "complete";
     out_ << "mpm_app " << MPMDEM_VERSION << ": scene '" << scene_.name << "' resumed from "
          << resume_dir_ << " (step " << solver_->step_count() << ", t=" << solver_->time()
@@ -197,9 +198,11 @@ class Run {
     require_finite();
     const double start = wall_time();
     const std::string dir = checkpoint_directory(dir_, solver_->step_count());
-    write_mpm_checkpoint(dir, solver_->state(), driver_state());
+    const DriverState state = driver_state();
+    write_mpm_checkpoint(dir, solver_->state(), state);
     solver_->provider().checkpoint(dir + "/dem", solver_->step_count());
     commit_checkpoint(dir_, dir, scene_.output.checkpoints_kept);
+    newest_checkpoint_wall_s_ = state.wall_time_s;
     const double took = wall_time() - start;
     checkpoint_wall_s_ += took;
     ++checkpoints_;
@@ -409,6 +412,15 @@ class Run {
       const std::string fault_dir = write_fault_checkpoint();
       if (!fault_dir.empty()) msg << "; mpm_app's own state at the fault: " << fault_dir;
       const std::string last = latest_checkpoint(dir_);
+      if (const auto* lost = dynamic_cast<const PeerLost*>(&e)) {
+        s().peer_fault = PeerFault{lost->kind() == PeerLost::Kind::kDied ? "died" : "no_reply",
+                                   solver_->step_count(),
+                                   lost->ranks(),
+                                   lost->hosts(),
+                                   lost->exact(),
+                                   last,
+                                   last.empty() ? 0.0 : newest_checkpoint_wall_s_};
+      }
       msg << (last.empty() ? "; no complete checkpoint to resume from"
                            : "; the newest checkpoint complete on both sides is " + last +
                                  " (scripts/run --resume " + dir_ + ")");
@@ -506,9 +518,10 @@ class Run {
   std::optional<ColumnCollapseMonitor> column_;
   std::string resume_dir_;  // checkpoint this run continues from ("" for a fresh run)
   DriverState resumed_;
-  double wall_before_ = 0.0;        // wall time of the run before its last resume
-  std::int64_t checkpoints_ = 0;    // checkpoints written by this process
-  double checkpoint_wall_s_ = 0.0;  // their wall time, both sides
+  double wall_before_ = 0.0;               // wall time of the run before its last resume
+  double newest_checkpoint_wall_s_ = 0.0;  // the run's wall time at its newest checkpoint
+  std::int64_t checkpoints_ = 0;           // checkpoints written by this process
+  double checkpoint_wall_s_ = 0.0;         // their wall time, both sides
   double last_dt_ = 0.0;
   TimeStepLog dt_log_;
 };

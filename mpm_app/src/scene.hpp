@@ -138,7 +138,7 @@ struct CouplingParams {
   std::uint32_t outputs = 0;  // protocol::OutputBits
   std::string service_name = "mpmdem";
   double connect_timeout_s = 60.0;
-  double peer_timeout_s = 3600.0;               // longest wait for one exchange (unprobeable ranks)
+  double peer_timeout_s = 300.0;                // longest wait for one exchange (unprobeable ranks)
   std::string port_file = "dem_port.txt";       // relative to the run directory
   double lazy_tolerance = 0.0;                  // coupling.lazy_tolerance: 0 = off
   RveOrder rve_order = RveOrder::kInterleaved;  // coupling.rve_order
@@ -147,6 +147,9 @@ struct CouplingParams {
   double load_balance_smoothing = 0.2;
   std::string canonical_text;  // canonical form of the whole section
   std::uint64_t hash = 0;      // fnv1a64(canonical_text)
+  // Not from the scene (the launch, mpm_app --dem-jobs): how many separately launched DEM
+  // jobs mpm_app joins into one partition (interface job_join.hpp). Not hashed.
+  int dem_jobs = 1;
 };
 
 struct OutputParams {

@@ -4,19 +4,22 @@
 # Source it, then:
 #   pair_init                                  # installs the cleanup trap
 #   pair_start_ompi_server DIR                 # URI file DIR/ompi-server.uri
-#   pair_start_server NP LOG dem_app ARGS...   # background, output to LOG
+#   pair_start_server NP LOG dem_app ARGS...   # background, output to LOG; called once per
+#                                              # DEM job (one per DEM host, docs/cluster.md)
 #   pair_start_client NP LOG mpm_app ARGS...   # background, output to stdout and LOG
 #   pair_start_local LOG mpm_app ARGS...       # mpm_app alone, without mpirun
 #   pair_wait_client                           # exit code of the client's mpirun
-#   pair_wait_client_watching_server GRACE     # same, stopping the client if the server
+#   pair_wait_client_watching_server GRACE     # same, stopping the client if a server job
 #                                              # ended GRACE s before it (returns 4 then)
-#   pair_wait_server SECONDS                   # exit code of the server's mpirun (124: killed)
+#   pair_wait_server SECONDS                   # exit code of the servers' mpiruns (the first
+#                                              # non-zero one; 124: one had to be killed)
 # Each process runs in its own session (setsid), so killing its process group also stops
 # the MPI ranks that mpirun forked.
 
 PAIR_PIDS=()
 PAIR_URI=""
-PAIR_SERVER_PID=""
+PAIR_SERVER_PID=""   # the last server job started
+PAIR_SERVER_PIDS=() # every server job (one mpirun, or its launcher, per DEM job)
 PAIR_CLIENT_PID=""
 PAIR_CLIENT_LOCAL=0
 PAIR_FINAL_HOOK=""  # function run after an interrupt's cleanup (e.g. print the results)
@@ -91,6 +94,9 @@ pair_cleanup() {
   done
   for pid in "${PAIR_PIDS[@]}"; do wait "$pid" 2>/dev/null || true; done
   PAIR_PIDS=()
+  PAIR_SERVER_PIDS=()
+  PAIR_SERVER_PID=""
+  PAIR_CLIENT_PID=""
 }
 
 # Ctrl-C: let mpm_app stop in order first (it writes its summary and tells the server),
@@ -160,6 +166,7 @@ pair_start_server() {
   fi
   PAIR_SERVER_PID=$!
   PAIR_PIDS+=("$PAIR_SERVER_PID")
+  PAIR_SERVER_PIDS+=("$PAIR_SERVER_PID")
 }
 
 pair_start_client() {
@@ -194,13 +201,13 @@ pair_wait_client() {
 # client detects a dead rank on this host itself within a second and ends with its fault
 # checkpoint; this is the backstop for ranks it cannot probe (other hosts), bounded by GRACE.
 pair_wait_client_watching_server() {
-  local grace=$1 lost_at=""
+  local grace=$1 lost_at="" pid
   while kill -0 "$PAIR_CLIENT_PID" 2>/dev/null; do
-    if [[ -z $lost_at && -n $PAIR_SERVER_PID ]] && ! kill -0 "$PAIR_SERVER_PID" 2>/dev/null; then
-      lost_at=$SECONDS
+    if [[ -z $lost_at ]]; then
+      for pid in "${PAIR_SERVER_PIDS[@]}"; do kill -0 "$pid" 2>/dev/null || lost_at=$SECONDS; done
     fi
     if [[ -n $lost_at ]] && ((SECONDS - lost_at >= grace)); then
-      echo "error: the DEM server's mpirun ended, and mpm_app was still running $grace s later: stopped it" >&2
+      echo "error: a DEM server job's mpirun ended, and mpm_app was still running $grace s later: stopped it" >&2
       kill -TERM -- "-$PAIR_CLIENT_PID" 2>/dev/null || kill -TERM "$PAIR_CLIENT_PID" 2>/dev/null
       local i
       for i in $(seq 1 50); do
@@ -218,33 +225,44 @@ pair_wait_client_watching_server() {
   return $rc
 }
 
-# Wait up to SECONDS for the server's mpirun; returns its exit code, or 124 if it had to
-# be killed.
+# Wait up to SECONDS for the servers' mpiruns (all of them together); returns the first
+# non-zero exit code, or 124 if one had to be killed. mpirun relays TERM to its daemons; one
+# on a host it can no longer reach (a cut link) never answers, so the jobs still running get
+# TERM together, 5 s later they and their processes on this machine get KILL.
 pair_wait_server() {
-  local seconds=$1 i
+  local seconds=$1 i pid alive rc=0 one
   for i in $(seq 1 $((seconds * 10))); do
-    kill -0 "$PAIR_SERVER_PID" 2>/dev/null || break
+    alive=0
+    for pid in "${PAIR_SERVER_PIDS[@]}"; do kill -0 "$pid" 2>/dev/null && alive=1; done
+    ((alive)) || break
     sleep 0.1
   done
-  if kill -0 "$PAIR_SERVER_PID" 2>/dev/null; then
-    # mpirun relays TERM to its daemons; one on a host it can no longer reach (a cut link)
-    # never answers, so it gets 5 s, then it and its processes on this machine get KILL.
-    local all
-    mapfile -t all < <(pair_descendants "$PAIR_SERVER_PID")
-    kill -TERM -- "-$PAIR_SERVER_PID" 2>/dev/null || true
+  local late=() all=()
+  for pid in "${PAIR_SERVER_PIDS[@]}"; do
+    kill -0 "$pid" 2>/dev/null || continue
+    late+=("$pid")
+    mapfile -t -O ${#all[@]} all < <(pair_descendants "$pid")
+    kill -TERM -- "-$pid" 2>/dev/null || true
+  done
+  if ((${#late[@]})); then
     for i in $(seq 1 50); do
-      kill -0 "$PAIR_SERVER_PID" 2>/dev/null || break
+      alive=0
+      for pid in "${late[@]}"; do kill -0 "$pid" 2>/dev/null && alive=1; done
+      ((alive)) || break
       sleep 0.1
     done
-    if kill -0 "$PAIR_SERVER_PID" 2>/dev/null; then
-      mapfile -t -O ${#all[@]} all < <(pair_descendants "$PAIR_SERVER_PID")
-      kill -KILL -- "-$PAIR_SERVER_PID" 2>/dev/null
-      for i in "${all[@]}"; do kill -KILL "$i" 2>/dev/null; done
-    fi
-    wait "$PAIR_SERVER_PID" 2>/dev/null || true
-    return 124
+    for pid in "${late[@]}"; do
+      kill -0 "$pid" 2>/dev/null || continue
+      mapfile -t -O ${#all[@]} all < <(pair_descendants "$pid")
+      kill -KILL -- "-$pid" 2>/dev/null
+    done
+    for i in "${all[@]}"; do kill -KILL "$i" 2>/dev/null; done
   fi
-  local rc=0
-  wait "$PAIR_SERVER_PID" || rc=$?
+  for pid in "${PAIR_SERVER_PIDS[@]}"; do
+    one=0
+    wait "$pid" 2>/dev/null || one=$?
+    if [[ " ${late[*]} " == *" $pid "* ]]; then one=124; fi
+    ((rc != 0)) || rc=$one
+  done
   return $rc
 }

@@ -341,6 +341,23 @@ TEST(SummaryJson, NonFiniteNumbersBecomeNull) {
   EXPECT_EQ(json.find("nan"), std::string::npos);
 }
 
+// A run ended by a lost DEM host: summary.json's peer_fault is what scripts/run --on-fault
+// resume reads (scripts/lib/faults.py): kind, step, ranks and their hosts, exact, checkpoint.
+TEST(SummaryJson, PeerFaultNamesRanksHostsAndCheckpoint) {
+  RunSummary s;
+  s.status = "failed";
+  EXPECT_EQ(to_json(s).find("peer_fault"), std::string::npos) << "only after a peer fault";
+  s.peer_fault = PeerFault{
+      "no_reply", 107, {2, 3}, {"node-c", "node-c"}, true, "/r/checkpoints/step_000000100", 12.5};
+  const std::string json = to_json(s);
+  for (const char* part : {"\"kind\": \"no_reply\"", "\"step\": 107", "\"ranks\": [2, 3]",
+                           "\"hosts\": [\"node-c\", \"node-c\"]", "\"exact\": true",
+                           "\"checkpoint\": \"/r/checkpoints/step_000000100\"",
+                           "\"wall_time_at_checkpoint_s\": 12.5"}) {
+    EXPECT_NE(json.find(part), std::string::npos) << part << " not in\n" << json;
+  }
+}
+
 // The energy_budget object: released = E_p0 + E_k0 - E_p - E_k = 10 + 0.5 - 6 - 0.5 = 4 J,
 // split into W_int 2.5, W_bc 0.5, W_damp 0.2 and the residual 0.8 J, of which the transfers
 // removed 0.6 J (0.1 J of it at the walls) and 0.2 J is the rest.

@@ -65,7 +65,14 @@ TEST(PeerWatchWait, ADeadRankIsFoundDuringTheQuietTime) {
   MPI_Request recv = MPI_REQUEST_NULL;  // nobody sends: only the probe can end the wait
   MPI_Irecv(&in, 1, MPI_INT, 0, 2, MPI_COMM_SELF, &recv);
   const auto t0 = Clock::now();
-  EXPECT_THROW(w.wait(recv, "a test", 60.0), mpmdem::PeerLost);
+  try {
+    w.wait(recv, "a test", 60.0);
+    ADD_FAILURE() << "the wait ended without the dead rank's reply";
+  } catch (const mpmdem::PeerLost& e) {
+    EXPECT_EQ(e.kind(), mpmdem::PeerLost::Kind::kDied);
+    EXPECT_TRUE(e.exact());
+    EXPECT_EQ(e.hosts(), std::vector<std::string>{host});
+  }
   EXPECT_LT(seconds_since(t0), 10.0) << "the quiet time delayed the dead rank's report";
   MPI_Cancel(&recv);
   MPI_Wait(&recv, MPI_STATUS_IGNORE);
@@ -102,6 +109,12 @@ TEST(PeerWatchWait, AStallNamesOnlyTheRanksThatDidNotAnswer) {
               std::string::npos)
         << what;
     EXPECT_NE(what.find("during step 9 (2 of 3 server ranks replied)"), std::string::npos) << what;
+    // The host and its silent ranks, for a reader and for scripts/run --on-fault resume.
+    EXPECT_NE(what.find("unreachable, hung or dead (host node-c: rank 1)"), std::string::npos)
+        << what;
+    EXPECT_EQ(e.hosts(), std::vector<std::string>{"node-c"});
+    EXPECT_TRUE(e.exact()) << "one request per rank: the silent rank is known";
+    EXPECT_EQ(e.kind(), mpmdem::PeerLost::Kind::kNoReply);
   }
   const double took = seconds_since(t0);
   EXPECT_GE(took, 0.3);

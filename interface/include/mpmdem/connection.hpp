@@ -56,13 +56,22 @@ class Watchdog {
   std::thread thread_;
 };
 
+// The coupling's peers are gone or the coupling failed before it was made (a refused join):
+// MPI_Finalize is bounded by 5 s instead of 30 (MpiSession), and SIGPIPE is ignored (a late
+// write to a peer that has exited must not kill this process with 141 instead of its code).
+void give_up_peers();
+
 struct ConnectOptions {
   std::string service_name = "mpmdem";  // MPI_Publish_name / MPI_Lookup_name key
   std::filesystem::path port_file;      // <run_dir>/<coupling.port_file>; empty: none
   double timeout_s = 60.0;              // coupling.connect_timeout_s
   double peer_timeout_s = 0.0;          // client: coupling.peer_timeout_s (0: no stall limit)
   bool publish = true;                  // server: also MPI_Publish_name (needs ompi-server)
-  std::string config_file;              // for messages only
+  // Several separately launched DEM jobs form the server (job_join.hpp): the client joins
+  // `jobs` of them; a server is job `job_index` (0-based) of `jobs`. 1: one job, as always.
+  int jobs = 1;
+  int job_index = 0;
+  std::string config_file;  // for messages only
 };
 
 // An established intercommunicator to the other program. Move-only. The destructor makes
@@ -70,8 +79,9 @@ struct ConnectOptions {
 class Connection {
  public:
   // Server side, collective over `local`: open a port, publish it, write the port file,
-  // accept one client. A watchdog ends the process (exit kExitPeerError, port file
-  // removed) if no client connects within opts.timeout_s.
+  // accept one client (with opts.jobs > 1: this job's own port, then the join of the jobs). A
+  // watchdog ends the process (exit kExitPeerError, port file removed) if no client connects within
+  // opts.timeout_s.
   static Connection accept(const ConnectOptions& opts, MPI_Comm local = MPI_COMM_WORLD);
   // Client side, collective over `local`: wait for the port file or the published name,
   // then connect. Throws ConnectTimeout naming the service, the port file and the timeout.
@@ -86,6 +96,9 @@ class Connection {
   ~Connection();
 
   MPI_Comm intercomm() const { return intercomm_; }
+  // This side's own ranks: `local` of accept/connect, or, for a server of several jobs, the
+  // intracommunicator of every server rank (ranks in job order).
+  MPI_Comm local_comm() const { return local_comm_; }
   bool connected() const { return intercomm_ != MPI_COMM_NULL; }
   int local_rank() const { return local_rank_; }
   int local_size() const { return local_size_; }
@@ -98,6 +111,7 @@ class Connection {
 
  private:
   MPI_Comm intercomm_ = MPI_COMM_NULL;
+  MPI_Comm local_comm_ = MPI_COMM_NULL;
   int local_rank_ = 0;
   int local_size_ = 1;
   int remote_size_ = 0;

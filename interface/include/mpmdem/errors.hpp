@@ -24,15 +24,30 @@ class PeerError : public std::runtime_error {
 };
 
 // A server rank died or stopped answering during an exchange (peer fault); ranks() are the
-// ranks named in the message (dead ones, or the unprobeable ones after a stall).
+// ranks named in the message (dead ones, or the unprobeable ones after a stall) and hosts()
+// their hosts (one per rank). exact(): the named ranks are exactly the ones at fault (a
+// probed death, or a stall of one message per rank); false after a stall of a collective,
+// which names every rank it cannot probe.
 class PeerLost : public PeerError {
  public:
-  PeerLost(const std::string& what, std::vector<int> ranks)
-      : PeerError(what), ranks_(std::move(ranks)) {}
+  enum class Kind { kDied, kNoReply };
+  PeerLost(const std::string& what, std::vector<int> ranks, std::vector<std::string> hosts = {},
+           Kind kind = Kind::kNoReply, bool exact = false)
+      : PeerError(what),
+        ranks_(std::move(ranks)),
+        hosts_(std::move(hosts)),
+        kind_(kind),
+        exact_(exact) {}
   const std::vector<int>& ranks() const { return ranks_; }
+  const std::vector<std::string>& hosts() const { return hosts_; }
+  Kind kind() const { return kind_; }
+  bool exact() const { return exact_; }
 
  private:
   std::vector<int> ranks_;
+  std::vector<std::string> hosts_;
+  Kind kind_;
+  bool exact_;
 };
 
 // No peer found / accepted within the connect timeout.

@@ -143,6 +143,8 @@ class RveServerChannel {
   Partition my_partition() const { return mine_; }
   int rank() const { return conn_.local_rank(); }
   int ranks() const { return conn_.local_size(); }
+  // Every server rank (MPI_COMM_WORLD, or all ranks of several joined jobs): RVE migrations.
+  MPI_Comm comm() const { return conn_.local_comm(); }
 
   // Wait for the next exchange. false on Shutdown or Abort (see aborted()).
   bool next(protocol::ControlHeader& header);

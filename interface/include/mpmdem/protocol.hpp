@@ -9,8 +9,8 @@
 // The handshake refuses a peer with a different major version.
 //
 // Message sequence (see docs/protocol.md):
-//   connect -> Hello exchange (both directions) -> RankIdentity gather -> [Initialise] -> Step* ->
-//   [Checkpoint]
+//   connect [-> job join, several DEM jobs] -> Hello exchange (both directions) -> RankIdentity
+//   gather -> [Initialise] -> Step* -> [Checkpoint]
 //   -> ... -> Shutdown.
 // Every exchange starts with the client broadcasting a ControlHeader; the server ranks then
 // take part in the collective(s) that the header's kind names.
@@ -25,9 +25,12 @@ namespace mpmdem::protocol {
 // 2.1: kFlagSkip (lazy RVE evaluation). 3.0: RankIdentity gather after the handshake (peer
 // faults: the client names and probes the server ranks). 4.0: RveInit::point (the RVE order on
 // the wire is the client's choice, coupling.rve_order). 5.0: replies and RankReports travel
-// as one point-to-point message per server rank (tags 41, 42), not as gathers.
+// as one point-to-point message per server rank (tags 41, 42), not as gathers. 5.1: the
+// server may be several dem_app jobs, joined before the Hello (job_join.hpp; only between
+// programs started with mpm_app --dem-jobs K / dem_app --jobs K, K > 1: a one-job coupling's
+// messages are those of 5.0).
 inline constexpr std::uint16_t kVersionMajor = 5;
-inline constexpr std::uint16_t kVersionMinor = 0;
+inline constexpr std::uint16_t kVersionMinor = 1;
 
 // "MPMD" in ASCII; a peer that reads another value speaks another protocol or byte order.
 inline constexpr std::uint32_t kMagic = 0x4D504D44u;

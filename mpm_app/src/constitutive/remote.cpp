@@ -11,6 +11,8 @@
 #include <filesystem>
 #include <iostream>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "constitutive/lazy_evaluation.hpp"
 #include "constitutive/load_balancer.hpp"
@@ -22,6 +24,25 @@ namespace mpmdem::mpm {
 namespace {
 
 using RowMajor3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
+
+// "on host b ranks 0-1, on host c ranks 2-3": where the server ranks run (they are numbered
+// job after job, so each host's ranks form one range unless a job spans hosts).
+std::string ranks_by_host(const std::vector<protocol::RankIdentity>& servers) {
+  std::string out;
+  for (std::size_t r = 0; r < servers.size();) {
+    const std::string host(servers[r].host, strnlen(servers[r].host, sizeof servers[r].host));
+    std::size_t last = r;
+    while (last + 1 < servers.size() &&
+           host == std::string(servers[last + 1].host,
+                               strnlen(servers[last + 1].host, sizeof servers[last + 1].host)))
+      ++last;
+    out += (out.empty() ? "on host " : ", on host ") + host +
+           (last == r ? " rank " + std::to_string(r)
+                      : " ranks " + std::to_string(r) + "-" + std::to_string(last));
+    r = last + 1;
+  }
+  return out;
+}
 
 class RemoteProvider : public ConstitutiveProvider {
  public:
@@ -38,6 +59,7 @@ class RemoteProvider : public ConstitutiveProvider {
     opts.timeout_s = scene.coupling.connect_timeout_s;
     opts.peer_timeout_s = scene.coupling.peer_timeout_s;
     opts.config_file = scene.source_file;
+    opts.jobs = scene.coupling.dem_jobs;
     HelloFields hello;
     hello.program = "mpm_app";
     hello.backend = scene.coupling.backend;
@@ -46,7 +68,10 @@ class RemoteProvider : public ConstitutiveProvider {
     hello.config_hash = scene.coupling.hash;
     client_.connect(opts, hello);
     std::cerr << "mpm_app: connected to dem_app (backend '" << scene.coupling.backend << "', "
-              << client_.server_ranks() << " rank(s), " << n_points << " RVEs)" << std::endl;
+              << client_.server_ranks() << " rank(s)";
+    if (opts.jobs > 1) std::cerr << " in " << opts.jobs << " jobs";
+    std::cerr << ", " << n_points << " RVEs; " << ranks_by_host(client_.handshake().servers) << ")"
+              << std::endl;
   }
 
   // An exception in the solver unwinds through here: tell the server to stop.

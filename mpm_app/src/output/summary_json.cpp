@@ -81,6 +81,26 @@ std::string tagged_object(const char* tag, const std::string& name,
   return inner.str();
 }
 
+std::string peer_fault_object(const PeerFault& f) {
+  std::ostringstream inner;
+  inner << "{\n";
+  ObjectWriter v(inner, 4);
+  v.str("kind", f.kind);
+  v.integer("step", f.step);
+  std::string ranks = "[", hosts = "[";
+  for (std::size_t i = 0; i < f.ranks.size(); ++i) {
+    ranks += (i ? ", " : "") + std::to_string(f.ranks[i]);
+    hosts += (i ? ", " : "") + quote(i < f.hosts.size() ? f.hosts[i] : "");
+  }
+  v.raw("ranks", ranks + "]");
+  v.raw("hosts", hosts + "]");
+  v.raw("exact", f.exact ? "true" : "false");
+  v.str("checkpoint", f.checkpoint);
+  v.num("wall_time_at_checkpoint_s", f.wall_time_at_checkpoint_s);
+  inner << "\n  }";
+  return inner.str();
+}
+
 }  // namespace
 
 std::string to_json(const RunSummary& s) {
@@ -145,6 +165,7 @@ std::string to_json(const RunSummary& s) {
                                         {"E_err_transfer_share", share(s.W_transfer_J)},
                                         {"E_err_transfer_walls_share", share(s.W_transfer_walls_J)},
                                         {"E_err_other_share", share(E_err - s.W_transfer_J)}}));
+  if (s.peer_fault) w.raw("peer_fault", peer_fault_object(*s.peer_fault));
   if (!s.stop_reason.empty()) w.raw("stop", tagged_object("reason", s.stop_reason, s.stop));
   if (!s.verification_kind.empty()) {
     w.raw("verification", tagged_object("kind", s.verification_kind, s.verification));

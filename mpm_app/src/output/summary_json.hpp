@@ -26,17 +26,37 @@
 //                      E_err_other_J (time integration, instabilities); each also as a
 //                      share of released_J (*_share)
 //   verification       {"kind": ..., <error figures of that kind>} (absent for kind none)
+//   peer_fault         (a run that failed because DEM ranks died or stopped answering)
+//                      {"kind": "died" | "no_reply", "step": the last step completed,
+//                      "ranks": [...], "hosts": [...] (one per rank), "exact": whether
+//                      those ranks are exactly the silent ones (false after a stall of a
+//                      collective: every rank on another host is named), "checkpoint": the
+//                      newest checkpoint complete on both sides ("" if none),
+//                      "wall_time_at_checkpoint_s": the run's wall time when it was written}:
+//                      what scripts/run --on-fault resume continues from (docs/cluster.md)
 //   <analysis figures> top-level numbers of the scene's analysis (column_collapse: t_star_s,
 //                      runout_m, ...; see analysis/column_collapse.hpp)
 // Non-finite numbers are written as null (JSON has no NaN).
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace mpmdem::mpm {
+
+// The peer fault that ended a run (summary.json "peer_fault").
+struct PeerFault {
+  std::string kind;  // "died" (probed on mpm_app's host) | "no_reply" (a stall)
+  std::int64_t step = 0;
+  std::vector<int> ranks;
+  std::vector<std::string> hosts;
+  bool exact = false;
+  std::string checkpoint;
+  double wall_time_at_checkpoint_s = 0.0;
+};
 
 struct RunSummary {
   std::string status;
@@ -75,6 +95,7 @@ struct RunSummary {
   std::vector<std::pair<std::string, double>> analysis;
   std::string stop_reason;                                   // empty: no "stop" object
   std::vector<std::pair<std::string, double>> stop;          // its figures
+  std::optional<PeerFault> peer_fault;                       // a failed run's, if a peer's
   std::string verification_kind;                             // empty: none
   std::vector<std::pair<std::string, double>> verification;  // figure name -> value
 };

@@ -4,6 +4,7 @@
 // bit), RVEs with different substep counts in one batch, checkpoints written by one backend
 // and resumed by the other. The batch's 3x3 algebra against Eigen, bit for bit.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>

@@ -217,11 +217,9 @@ std::unique_ptr<DeviceBatch> DeviceBatch::create(int index, int rank, int thread
   const cudaError_t e = cudaGetDeviceCount(&count);
   if (e != cudaSuccess || count == 0) {
     throw NoDeviceError(
-        std::string("cuda backend: coupling.cuda.device is gpu but this host has no usable CUDA "
-                    "device (cudaGetDeviceCount: ") +
-        (e != cudaSuccess ? cudaGetErrorString(e) : "0 devices") +
-        "); run on a GPU node, or set coupling.cuda.device: host to run the same batch code "
-        "on the CPU");
+        std::string("cuda backend: no usable CUDA device here (set coupling.cuda.device: host to "
+                    "run the batch on the CPU, or run on a GPU node); cudaGetDeviceCount: ") +
+        (e != cudaSuccess ? cudaGetErrorString(e) : "0 devices"));
   }
   const int device = index >= 0 ? index : rank % count;
   if (device >= count) {

@@ -10,10 +10,8 @@ bool cuda_built() {
 
 std::unique_ptr<DeviceBatch> DeviceBatch::create(int, int, int) {
   throw NoDeviceError(
-      "cuda backend: this dem_app was built without CUDA (MPMDEM_WITH_CUDA=OFF: no nvcc at "
-      "configure time, or the sanitizer build), so coupling.cuda.device: gpu has no device; "
-      "set coupling.cuda.device: host to run the same batch code on the CPU, or rebuild "
-      "where nvcc is found");
+      "cuda backend: built without CUDA, so no GPU (set coupling.cuda.device: host to run the "
+      "batch on the CPU, or rebuild where nvcc is found: MPMDEM_WITH_CUDA)");
 }
 
 }  // namespace mpmdem::dem::batch

@@ -1,10 +1,11 @@
 // batch_bench: the GPU backend's batch (coupling.backend: cuda) on many RVEs, for the device
 // check (tests/device/check.sh) and CPU measurements. RVEs come from a native checkpoint file
-// (--load) or are built in place (Table 1 clouds of --spheres spheres consolidated to 10 kPa by
-// the native backend, --distinct of them, one per thread) and may be saved (--save) for the
-// next run; the batch repeats them to --rves RVEs. Every RVE gets its own small random dF per
-// step (seeded by RVE and step: the same on every path) and --ns substeps (or, with --mixed,
-// ns between 2 and --ns drawn per RVE and step: mixed counts in one launch).
+// (--load), from native packings (--packings DIR/NAME,DIR/NAME2: <name>.native.txt, as read by
+// the native backend, unconsolidated) or are built in place (Table 1 clouds of --spheres spheres
+// consolidated to 10 kPa by the native backend, --distinct of them, one per thread) and may be
+// saved (--save) for the next run; the batch repeats them to --rves RVEs. Every RVE gets its own
+// small random dF per step (seeded by RVE and step: the same on every path) and --ns substeps (or,
+// with --mixed, ns between 2 and --ns drawn per RVE and step: mixed counts in one launch).
 //   --device gpu|host   where the batch runs (host: the same code on the CPU, --threads)
 //   --validate R        R RVEs on the device and on the host batch path, --steps steps, every
 //                       reply compared (stress relative difference; exit 1 above 1e-10)
@@ -32,6 +33,7 @@
 #include "backends/batch/batch_state.hpp"
 #include "backends/native/binary_state.hpp"
 #include "backends/native/native_backend.hpp"
+#include "backends/native/packing.hpp"
 
 namespace {
 
@@ -40,7 +42,7 @@ using namespace mpmdem::dem;
 using Clock = std::chrono::steady_clock;
 
 struct Options {
-  std::string load, save, device = "gpu";
+  std::string load, save, packings, device = "gpu";
   int spheres = 100, distinct = 4, ns = 100, steps = 5, validate = 0, native = 0, threads = 1;
   int tpb = 128;
   long rves = 1560;
@@ -66,6 +68,21 @@ std::vector<native::RveRecord> build(const Options& o) {
     protocol::RveReply reply;
     nb.initialise(&init, &reply);
     out[static_cast<std::size_t>(d)] = nb.rve(0);
+  }
+  return out;
+}
+
+std::vector<native::RveRecord> from_packings(const std::string& list) {
+  std::vector<native::RveRecord> out;
+  std::size_t a = 0;
+  while (a <= list.size()) {
+    const std::size_t b = std::min(list.find(',', a), list.size());
+    native::RveRecord r;
+    r.state = native::read_packing(list.substr(a, b - a) + native::kPackingExtension);
+    r.state.contacts.sort_by_first();  // as NativeBackend::make_rve
+    r.p0 = 1e4;
+    out.push_back(std::move(r));
+    a = b + 1;
   }
   return out;
 }
@@ -212,6 +229,8 @@ int main(int argc, char** argv) {
         o.load = next();
       else if (a == "--save")
         o.save = next();
+      else if (a == "--packings")
+        o.packings = next();
       else if (a == "--device")
         o.device = next();
       else if (a == "--spheres")
@@ -239,7 +258,9 @@ int main(int argc, char** argv) {
     }
     if (o.ns < 2) throw std::invalid_argument("--ns must be >= 2");
     const auto t0 = Clock::now();
-    const std::vector<native::RveRecord> src = o.load.empty() ? build(o) : load(o.load);
+    const std::vector<native::RveRecord> src = !o.load.empty()       ? load(o.load)
+                                               : !o.packings.empty() ? from_packings(o.packings)
+                                                                     : build(o);
     std::cout << "RVEs: " << src.size() << " distinct of " << src[0].state.spheres.size()
               << " spheres (" << std::chrono::duration<double>(Clock::now() - t0).count()
               << " s to " << (o.load.empty() ? "build" : "load") << ")" << std::endl;

@@ -3,6 +3,7 @@
 
 #include <stdexcept>
 
+#include "backends/batch/cuda_backend.hpp"
 #include "backends/elastic_backend.hpp"
 #include "backends/native/native_backend.hpp"
 #ifdef MPMDEM_HAVE_YADE
@@ -13,9 +14,9 @@ namespace mpmdem::dem {
 
 std::vector<std::string> available_backends() {
 #ifdef MPMDEM_HAVE_YADE
-  return {"elastic", "native", "yade"};
+  return {"elastic", "native", "cuda", "yade"};
 #else
-  return {"elastic", "native"};
+  return {"elastic", "native", "cuda"};
 #endif
 }
 
@@ -42,6 +43,7 @@ std::unique_ptr<RveBackend> make_backend(const std::string& name, const config::
   (void)ctx;
   if (name == "elastic") return make_elastic_backend(cfg);
   if (name == "native") return make_native_backend(cfg);
+  if (name == "cuda") return make_cuda_backend(cfg);
 #ifdef MPMDEM_HAVE_YADE
   if (name == "yade") return make_yade_backend(cfg, ctx);
 #endif

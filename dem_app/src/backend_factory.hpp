@@ -1,5 +1,6 @@
-// Creating a backend by name (dem_app --backend NAME): elastic and native always, yade when
-// built with MPMDEM_HAVE_YADE.
+// Creating a backend by name (dem_app --backend NAME): elastic, native and cuda (its host
+// batch path always; its GPU kernel with MPMDEM_HAVE_CUDA) always, yade when built with
+// MPMDEM_HAVE_YADE.
 #pragma once
 
 #include <cstdint>

@@ -21,7 +21,7 @@ std::string list_text(const std::vector<std::string>& items) {
 namespace dem {
 
 std::uint32_t backend_outputs(const std::string& name) {
-  if (name == "yade" || name == "native") return protocol::kKnownOutputs;
+  if (name == "yade" || name == "native" || name == "cuda") return protocol::kKnownOutputs;
   return 0;  // elastic (see backends/elastic_backend.hpp), or an unknown name
 }
 
@@ -44,7 +44,7 @@ void check_outputs_provided(const config::Config& cfg) {
                list_text(cfg.strings("coupling.outputs")) + " asks for '" + name +
                    "', which backend " + backend +
                    " does not compute (it provides: " + coupling_output_names(provided) +
-                   "); remove it, or use a DEM backend (native or yade)");
+                   "); remove it, or use a DEM backend (native, cuda or yade)");
     }
   }
 }
@@ -91,6 +91,7 @@ void check_coupling(const config::Config& cfg) {
   check_outputs_provided(cfg);
   const std::string backend = cfg.string("coupling.backend");
   if (backend == "yade" || backend == "native") check_rve_backend(cfg, backend);
+  if (backend == "cuda") check_rve_backend(cfg, "native");  // its physics keys
 }
 
 }  // namespace mpmdem

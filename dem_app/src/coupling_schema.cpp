@@ -2,6 +2,7 @@
 // each DEM backend. Declared once; mpm_app's scene schema and dem_app both include it.
 #include "coupling_schema.hpp"
 
+#include "cuda_schema.hpp"
 #include "mpmdem/protocol.hpp"
 #include "native_schema.hpp"
 #include "yade_schema.hpp"
@@ -24,7 +25,7 @@ void add_coupling_keys(config::Schema& s) {
             "the hashes differ"));
   s.add(key("coupling.backend", Type::kEnum, "", "RVE backend the DEM server must run")
             .def("elastic")
-            .one_of({"elastic", "yade", "native"}));
+            .one_of({"elastic", "yade", "native", "cuda"}));
   s.add(key("coupling.outputs", Type::kStringList, "",
             "per-RVE outputs the server computes and returns (only these; only outputs the "
             "backend computes: none for elastic)")
@@ -95,6 +96,7 @@ void add_coupling_keys(config::Schema& s) {
             .lt(0.5));
   add_yade_keys(s);
   add_native_keys(s);
+  add_cuda_keys(s);
 }
 
 const config::Schema& coupling_schema() {

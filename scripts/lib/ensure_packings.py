@@ -53,6 +53,8 @@ def main(scene):
         fail(f"cannot read {scene}: {e}")
     coupling = doc.get("coupling") or {}
     backend = coupling.get("backend")
+    if backend == "cuda":  # the GPU backend runs the native backend's packings (coupling.native)
+        backend = "native"
     if backend not in ("yade", "native"):
         return 0
     ext = ".yade.bz2" if backend == "yade" else ".native.txt"

@@ -20,6 +20,7 @@
 #include "backends/native/integrator.hpp"
 #include "backends/native/measures.hpp"
 #include "backends/native/packing.hpp"
+#include "backends/native/rve_reply.hpp"
 #include "coupling_rules.hpp"
 
 namespace mpmdem::dem {
@@ -187,38 +188,7 @@ void NativeBackend::regularise(std::size_t k, std::uint64_t step) {
 
 void NativeBackend::fill_reply(std::size_t k, std::int32_t status, std::int32_t n_sub,
                                protocol::RveReply& reply) const {
-  std::memset(&reply, 0, sizeof reply);
-  const native::RveState& s = rves_[k].state;
-  const bool contacts = s.contacts.size() > 0;
-  if (!contacts && status == as_int(protocol::RveStatus::kOk)) {
-    status = as_int(protocol::RveStatus::kNoContacts);
-  }
-  if (status == as_int(protocol::RveStatus::kOk)) {
-    const native::StressStiffness ss = native::stress_and_stiffness(s, p_.stiffness);
-    const Eigen::Matrix3d& sig = ss.stress;
-    const RowMajor3 sym = 0.5 * (sig + sig.transpose());
-    if (!sym.allFinite()) {
-      status = as_int(protocol::RveStatus::kNonFinite);
-    } else {
-      Eigen::Map<RowMajor3>(reply.stress) = sym;
-      reply.stiffness = ss.stiffness;
-    }
-  }
-  const std::uint32_t o = ctx_.outputs;
-  if (status == as_int(protocol::RveStatus::kOk) ||
-      status == as_int(protocol::RveStatus::kNoContacts)) {
-    if (o & protocol::kOutputRotation) {
-      const Eigen::Vector3d rot = native::mean_rotation(s);
-      for (int i = 0; i < 3; ++i) reply.rotation[i] = rot[i];
-    }
-    if (o & protocol::kOutputPorosity) reply.porosity = native::porosity(s);
-    if (o & protocol::kOutputCoordination) reply.coordination = native::coordination(s);
-    if ((o & protocol::kOutputUnbalancedForce) && contacts) {
-      reply.unbalanced_force = rves_[k].unbalanced;
-    }
-  }
-  reply.status = status;
-  reply.n_substeps = n_sub;
+  native::reply_from_state(rves_[k], status, n_sub, ctx_.outputs, p_.stiffness, reply);
 }
 
 void NativeBackend::step(const protocol::ControlHeader& header, const protocol::RveRequest* req,

@@ -43,7 +43,7 @@ run_job "$work/mended.log" "$work/cache.yaml" --out "$work/mended" --dem-ranks 2
 import glob, json, re, sys
 import h5py, numpy as np
 w = sys.argv[1]
-line = re.compile(r"prepared (\d+) RVEs in \S+ s; (\d+) consolidated, DEM steps mean \d+, max \d+; "
+line = re.compile(r"prepared (\d+) RVEs in \S+ s \(CPU \S+ s\); (\d+) consolidated, DEM steps mean \d+, max \d+; "
                   r"(\d+) distinct \(packing, stress\): (\d+) consolidated here in (\d+) DEM steps, "
                   r"(\d+) from the consolidation cache")
 def counts(run):

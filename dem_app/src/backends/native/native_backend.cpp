@@ -10,6 +10,7 @@
 #include <iostream>
 
 #include <cstdlib>
+#include <ctime>
 #include <exception>
 #include <random>
 #include <stdexcept>
@@ -98,6 +99,7 @@ void NativeBackend::initialise(const protocol::RveInit* init, protocol::RveReply
   cp.damping = p_.damping;
   cp.keep_on_failure = p_.consolidation_warn;
   const auto t0 = std::chrono::steady_clock::now();
+  const std::clock_t cpu0 = std::clock();
   const std::size_t n = ctx_.n_rve;
   // Each RVE's starting state (its packing, or its own cloud) and target stress; the RVEs
   // with equal ones are prepared once (rve_preparation.hpp).
@@ -141,7 +143,8 @@ void NativeBackend::initialise(const protocol::RveInit* init, protocol::RveReply
     }
   }
   log_preparation(set.tally,
-                  std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+                  std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+                  static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC);
   last_tally_ = set.tally;
 }
 
@@ -149,9 +152,11 @@ void NativeBackend::initialise(const protocol::RveInit* init, protocol::RveReply
 // initial stress), one line per rank in dem_app's log. The figures per RVE count the steps
 // of the state it got, wherever it was consolidated; "distinct" counts the consolidations
 // this rank needed, and where each came from.
-void NativeBackend::log_preparation(const native::PreparationTally& t, double seconds) const {
+void NativeBackend::log_preparation(const native::PreparationTally& t, double seconds,
+                                    double cpu_seconds) const {
   std::cerr << "dem_app rank " << ctx_.rank << ": prepared " << ctx_.n_rve << " RVEs in " << seconds
-            << " s; " << t.consolidated << " consolidated, DEM steps mean "
+            << " s (CPU " << cpu_seconds << " s); " << t.consolidated
+            << " consolidated, DEM steps mean "
             << (t.consolidated ? t.steps_sum / static_cast<long>(t.consolidated) : 0) << ", max "
             << t.steps_max << "; " << t.distinct << " distinct (packing, stress): " << t.computed
             << " consolidated here in " << t.steps_run << " DEM steps, " << t.from_cache

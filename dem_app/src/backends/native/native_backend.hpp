@@ -85,7 +85,7 @@ class NativeBackend final : public RveBackend {
   void fill_reply(std::size_t k, std::int32_t status, std::int32_t n_sub,
                   protocol::RveReply& reply) const;
   void regularise(std::size_t k, std::uint64_t step);
-  void log_preparation(const native::PreparationTally& t, double seconds) const;
+  void log_preparation(const native::PreparationTally& t, double seconds, double cpu_seconds) const;
 
   NativeParams p_;
   BackendContext ctx_;

@@ -17,6 +17,7 @@ struct BackendContext {
   std::uint64_t n_rve = 0;      // RVEs owned by this rank
   std::uint32_t outputs = 0;    // protocol::OutputBits requested by the scene
   int rank = 0;
+  int n_ranks = 1;  // ranks of the server
   std::filesystem::path run_dir;
 };
 

@@ -1,6 +1,10 @@
 // The rules between keys of the `coupling:` section: see coupling_rules.hpp.
 #include "coupling_rules.hpp"
 
+#include <unistd.h>
+
+#include <filesystem>
+#include <system_error>
 #include <vector>
 
 #include "coupling_schema.hpp"
@@ -86,12 +90,50 @@ void check_rve_backend(const config::Config& cfg, const std::string& backend) {
   check_packing_library(cfg, backend);
 }
 
+void check_consolidation_cache(const config::Config& cfg) {
+  if (cfg.string("coupling.backend") != "native") return;
+  const std::string key = "coupling.native.consolidation_cache";
+  const std::string value = cfg.string(key);
+  if (value.empty()) return;
+  namespace fs = std::filesystem;
+  fs::path dir(value);
+  if (dir.is_relative()) dir = fs::path(cfg.file()).parent_path() / dir;
+  dir = dir.lexically_normal();
+  const std::string shown =
+      "'" + value + "'" + (dir.string() == value ? "" : " (" + dir.string() + ")");
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) {
+    cfg.fail(key, shown +
+                      " exists and is not a folder: name a folder (it is created if missing), "
+                      "or write \"\" for no cache");
+  }
+  // The folder, or the nearest existing folder above it, where it will be created.
+  fs::path existing = dir;
+  while (!existing.empty() && !fs::exists(existing, ec)) existing = existing.parent_path();
+  if (existing.empty()) existing = ".";
+  if (!fs::is_directory(existing, ec) || ::access(existing.c_str(), W_OK | X_OK) != 0) {
+    cfg.fail(key, shown + ": " + existing.string() +
+                      " is not a folder this user can write in: name a writable folder, or "
+                      "write \"\" for no cache");
+  }
+}
+
+void check_no_yade_consolidation_cache(const config::Config& cfg) {
+  const std::string key = "coupling.yade.consolidation_cache";
+  if (cfg.string("coupling.backend") != "yade" || cfg.string(key).empty()) return;
+  cfg.fail(key, "'" + cfg.string(key) +
+                    "' is given, but the YADE backend consolidates every RVE itself and keeps no "
+                    "cache of consolidated states: remove the key, or use backend: native with "
+                    "coupling.native.consolidation_cache");
+}
+
 void check_coupling(const config::Config& cfg) {
   check_elastic_section(cfg);
   check_outputs_provided(cfg);
   const std::string backend = cfg.string("coupling.backend");
   if (backend == "yade" || backend == "native") check_rve_backend(cfg, backend);
   if (backend == "cuda") check_rve_backend(cfg, "native");  // its physics keys
+  check_no_yade_consolidation_cache(cfg);
 }
 
 }  // namespace mpmdem

@@ -36,5 +36,12 @@ void check_substep_bounds(const config::Config& cfg, const std::string& backend)
 void check_packing_library(const config::Config& cfg, const std::string& backend);
 // The two above: what the yade and native backends check of their own section.
 void check_rve_backend(const config::Config& cfg, const std::string& backend);
+// With backend yade, coupling.yade.consolidation_cache is empty (YADE keeps no cache).
+void check_no_yade_consolidation_cache(const config::Config& cfg);
+// With backend native, coupling.native.consolidation_cache, when given, names a folder
+// (relative to the scene file's folder) that exists or can be created where this user can
+// write. A check of the DEM host's file system: dem_app (its --check-config included) and
+// the native backend call it, not check_coupling (mpm_app may run on other hosts).
+void check_consolidation_cache(const config::Config& cfg);
 
 }  // namespace mpmdem

@@ -69,6 +69,7 @@ mpmdem::config::Config load_coupling(const std::string& file) {
   auto cfg = mpmdem::config::Config::load(file, mpmdem::coupling_schema(), "coupling");
   mpmdem::check_coupling(cfg);
   mpmdem::dem::check_backend_available(cfg);
+  mpmdem::check_consolidation_cache(cfg);
   return cfg;
 }
 

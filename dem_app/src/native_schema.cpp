@@ -34,6 +34,13 @@ void add_native_keys(config::Schema& s) {
             "scenes whose near-surface RVEs cannot reach stresses of a few hundred Pa)")
             .def("error")
             .one_of({"error", "warn"}));
+  s.add(key("coupling.native.consolidation_cache", Type::kString, "",
+            "folder of consolidated RVE states (one file per packing content, stress and "
+            "consolidation parameters; created if missing), relative to the scene file's "
+            "folder unless absolute: a later run, and the other ranks of this one, take a "
+            "stored state instead of consolidating again, with the same result; empty: none "
+            "(the RVEs of a rank with equal packing and stress are still consolidated once)")
+            .def("\"\""));
 }
 
 }  // namespace mpmdem

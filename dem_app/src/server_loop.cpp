@@ -191,6 +191,7 @@ int serve(const ServerOptions& opts, const BackendMaker& make_backend) {
   ctx.n_rve = channel.my_partition().count;
   ctx.outputs = channel.handshake().client.outputs;
   ctx.rank = channel.rank();
+  ctx.n_ranks = channel.ranks();
   ctx.run_dir = opts.run_dir;
   if (root) {
     std::cerr << "dem_app: connected; serving " << channel.n_rve() << " RVEs on " << channel.ranks()

@@ -6,6 +6,9 @@
 
 namespace mpmdem {
 
+using config::key;
+using config::Type;
+
 void add_yade_keys(config::Schema& s) {
   add_rve_backend_keys(
       s, {"yade", "settings of the YADE backend (backend: yade)",
@@ -16,6 +19,11 @@ void add_yade_keys(config::Schema& s) {
           "NewtonIntegrator non-viscous damping during coupling",
           "an upper bound of the constrained modulus built from utils.getStressAndTangent, at "
           "least the affine one: docs/dem_backend.md"});
+  s.add(key("coupling.yade.consolidation_cache", Type::kString, "",
+            "not available with YADE, which consolidates every RVE itself (docs/dem_backend.md, "
+            "\"Consolidation once per packing and stress\"): must be empty; the native backend "
+            "has it (coupling.native.consolidation_cache)")
+            .def("\"\""));
 }
 
 }  // namespace mpmdem

@@ -206,6 +206,12 @@ CASES = {
                                          "is error or warn",
                                          "coupling.native.consolidation_on_failure",
                                          {"coupling.native.consolidation_on_failure": "ignore"}),
+    "consolidation_cache_a_file": ("native", "reference (files): consolidation_cache is a folder "
+                                   "or can be made one", "coupling.native.consolidation_cache",
+                                   {"coupling.native.consolidation_cache": str(src / "README.md")}),
+    "consolidation_cache_yade": ("yade", "the YADE backend keeps no consolidation cache",
+                                 "coupling.yade.consolidation_cache",
+                                 {"coupling.yade.consolidation_cache": "cache"}),
 }
 
 

@@ -3,6 +3,10 @@
 // checks of single keys that the DEM server relied on (not empty, choices).
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "config_test_support.hpp"
@@ -94,4 +98,43 @@ TEST(CouplingRules, SchemaRefusesWhatTheServerCouldNotUse) {
                   "'ignore'");
   EXPECT_EQ(coupling_error("  backend: native\n  native:\n    consolidation_on_failure: warn\n"),
             "");
+}
+
+// coupling.native.consolidation_cache names a folder that exists or can be made (checked by
+// dem_app, where the DEM runs); YADE keeps no cache and refuses the key.
+TEST(CouplingRules, ConsolidationCacheIsAFolderAndNativeOnly) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("rules_cache_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path file = dir / "a_file";
+  std::ofstream(file) << "x";
+  auto cache_error = [&](const std::string& value, int* line = nullptr) {
+    try {
+      const Config cfg = Config::from_string(
+          "config_version: 1\ncoupling:\n  backend: native\n  native:\n    "
+          "consolidation_cache: \"" +
+              value + "\"\n",
+          mpmdem::coupling_schema(), (dir / "c.yaml").string(), "coupling");
+      mpmdem::check_consolidation_cache(cfg);
+    } catch (const ConfigError& e) {
+      if (line) *line = e.line();
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(cache_error(""), "");
+  EXPECT_EQ(cache_error((dir / "new" / "cache").string()), "");  // made when the run starts
+  EXPECT_EQ(cache_error("relative/cache"), "");                  // under the scene's folder
+  int line = 0;
+  EXPECT_CONTAINS(
+      cache_error(file.string(), &line),
+      "coupling.native.consolidation_cache '" + file.string() + "' exists and is not a folder");
+  EXPECT_EQ(line, 5);
+  EXPECT_CONTAINS(cache_error("a_file/cache"), "is not a folder this user can write in");
+  EXPECT_CONTAINS(coupling_error("  backend: yade\n  yade:\n    consolidation_cache: c\n", &line),
+                  "coupling.yade.consolidation_cache 'c' is given, but the YADE backend "
+                  "consolidates every RVE itself");
+  EXPECT_EQ(line, 5);
+  EXPECT_EQ(coupling_error("  backend: yade\n  yade:\n    consolidation_cache: \"\"\n"), "");
+  fs::remove_all(dir);
 }

@@ -47,10 +47,13 @@ Consolidation consolidate(RveState& s, NeighbourList& nl, const Eigen::Vector3d&
     if (err < p.stress_tol && unbalanced_force(s) < p.unbalanced_tol) return {step + 100, true};
   }
   if (p.keep_on_failure) return {p.max_steps, false};
-  throw std::runtime_error("consolidation to (" + std::to_string(goal[0]) + ", " +
-                           std::to_string(goal[1]) + ", " + std::to_string(goal[2]) +
-                           ") Pa did not converge in " + std::to_string(p.max_steps) +
-                           " steps (coupling.native.consolidation_max_steps)");
+  throw std::runtime_error(not_converged_message(goal, p.max_steps));
+}
+
+std::string not_converged_message(const Eigen::Vector3d& goal, long max_steps) {
+  return "consolidation to (" + std::to_string(goal[0]) + ", " + std::to_string(goal[1]) + ", " +
+         std::to_string(goal[2]) + ") Pa did not converge in " + std::to_string(max_steps) +
+         " steps (coupling.native.consolidation_max_steps)";
 }
 
 void finish_preparation(RveState& s, NeighbourList& nl, double damping) {

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <string>
 
 #include "backends/native/neighbour_list.hpp"
 #include "backends/native/rve_state.hpp"
@@ -30,9 +31,11 @@ struct Consolidation {
   bool converged = true;  // false only with keep_on_failure: the RVE stays as reached
 };
 
-// Throws std::runtime_error if max_steps does not suffice and keep_on_failure is not set.
+// Throws std::runtime_error (not_converged_message) if max_steps does not suffice and
+// keep_on_failure is not set.
 Consolidation consolidate(RveState& s, NeighbourList& nl, const Eigen::Vector3d& goal,
                           const ConsolidationParams& p);
+std::string not_converged_message(const Eigen::Vector3d& goal, long max_steps);
 void finish_preparation(RveState& s, NeighbourList& nl, double damping);
 
 }  // namespace mpmdem::dem::native

@@ -10,17 +10,18 @@
 #include <iostream>
 
 #include <cstdlib>
+#include <ctime>
 #include <exception>
 #include <random>
 #include <stdexcept>
 #include <utility>
 
 #include "backends/native/cell_regularisation.hpp"
-#include "backends/native/consolidation.hpp"
 #include "backends/native/integrator.hpp"
 #include "backends/native/measures.hpp"
 #include "backends/native/packing.hpp"
 #include "backends/native/rve_reply.hpp"
+#include "backends/native/rve_preparation.hpp"
 #include "coupling_rules.hpp"
 
 namespace mpmdem::dem {
@@ -47,37 +48,44 @@ void NativeBackend::setup(const BackendContext& ctx) {
   rves_.clear();
   lists_.clear();
   last_reply_.clear();
+  consolidation_cache_.reset();
+  if (!p_.consolidation_cache.empty()) {
+    consolidation_cache_ =
+        std::make_unique<native::ConsolidationCache>(p_.consolidation_cache, std::cerr);
+  }
 }
 
-RveRecord NativeBackend::make_rve(std::uint64_t point, double pressure) {
-  (void)pressure;
-  RveRecord r;
-  r.point = point;
-  if (p_.packings.empty()) {
-    native::CloudParams c;
-    c.n_spheres = p_.inline_spheres;
-    c.r_min = kTable1RadiusMin;
-    c.r_max = kTable1RadiusMax;
-    c.material.friction_angle = std::atan(0.518);
-    c.seed = static_cast<std::uint64_t>(p_.seed) + point;
-    r.state = native::build_cloud(c);
-    return r;
-  }
+std::string NativeBackend::packing_name(std::uint64_t point) const {
+  if (p_.packings.empty()) return {};
   std::size_t pick = 0;
   if (p_.packings.size() > 1) {
     std::mt19937_64 rng(static_cast<std::uint64_t>(p_.seed) * 1000003u + point);
     pick = static_cast<std::size_t>(rng() % p_.packings.size());
   }
-  r.packing = p_.packings[pick];
-  auto cached = packing_cache_.find(r.packing);
+  return p_.packings[pick];
+}
+
+const NativeBackend::Packing& NativeBackend::packing(const std::string& name) {
+  auto cached = packing_cache_.find(name);
   if (cached == packing_cache_.end()) {
-    native::RveState state = native::read_packing(std::filesystem::path(p_.packing_dir) /
-                                                  (r.packing + native::kPackingExtension));
-    state.contacts.sort_by_first();  // YADE's order: the force scatter wants them by sphere
-    cached = packing_cache_.emplace(r.packing, std::move(state)).first;
+    Packing pk;
+    pk.state = native::read_packing(std::filesystem::path(p_.packing_dir) /
+                                    (name + native::kPackingExtension));
+    pk.state.contacts.sort_by_first();  // YADE's order: the force scatter wants them by sphere
+    pk.hash = native::state_hash(pk.state);
+    cached = packing_cache_.emplace(name, std::move(pk)).first;
   }
-  r.state = cached->second;
-  return r;
+  return cached->second;
+}
+
+native::RveState NativeBackend::cloud(std::uint64_t point) const {
+  native::CloudParams c;
+  c.n_spheres = p_.inline_spheres;
+  c.r_min = kTable1RadiusMin;
+  c.r_max = kTable1RadiusMax;
+  c.material.friction_angle = std::atan(0.518);
+  c.seed = static_cast<std::uint64_t>(p_.seed) + point;
+  return native::build_cloud(c);
 }
 
 void NativeBackend::initialise(const protocol::RveInit* init, protocol::RveReply* reply) {
@@ -92,25 +100,42 @@ void NativeBackend::initialise(const protocol::RveInit* init, protocol::RveReply
   cp.damping = p_.damping;
   cp.keep_on_failure = p_.consolidation_warn;
   const auto t0 = std::chrono::steady_clock::now();
-  long consolidation_steps = 0, consolidation_max = 0;
-  std::size_t consolidated = 0, not_converged = 0;
-  for (std::size_t k = 0; k < ctx_.n_rve; ++k) {
-    const Eigen::Vector3d goal(init[k].stress[0], init[k].stress[4], init[k].stress[8]);
-    const double mean = goal.sum() / 3.0;
-    rves_.push_back(make_rve(init[k].point, -mean));
-    lists_.emplace_back(p_.verlet_skin);
-    RveRecord& r = rves_.back();
-    if (goal.cwiseAbs().maxCoeff() > 0) {
-      const native::Consolidation c = native::consolidate(r.state, lists_.back(), goal, cp);
-      consolidation_steps += c.steps;
-      consolidation_max = std::max(consolidation_max, c.steps);
-      ++consolidated;
-      if (!c.converged) ++not_converged;
+  const std::clock_t cpu0 = std::clock();
+  const std::size_t n = ctx_.n_rve;
+  // Each RVE's starting state (its packing, or its own cloud) and target stress; the RVEs
+  // with equal ones are prepared once (rve_preparation.hpp).
+  std::vector<native::RveState> clouds(p_.packings.empty() ? n : 0);
+  std::vector<native::PreparationInput> in(n);
+  rves_.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    RveRecord& r = rves_[k];
+    r.point = init[k].point;
+    r.packing = packing_name(r.point);
+    if (r.packing.empty()) {
+      clouds[k] = cloud(r.point);
+      in[k].start = &clouds[k];
+      in[k].start_hash = native::state_hash(clouds[k]);
+    } else {
+      const Packing& pk = packing(r.packing);
+      in[k].start = &pk.state;
+      in[k].start_hash = pk.hash;
     }
-    native::finish_preparation(r.state, lists_.back(), p_.damping);
-    r.unbalanced = native::unbalanced_force(r.state);
-    r.state.spheres.release_forces();
+    std::copy(init[k].stress, init[k].stress + 9, in[k].stress);
+  }
+  native::PreparedSet set = native::prepare_rves(in, cp, p_.verlet_skin, consolidation_cache_.get(),
+                                                 ctx_.rank, ctx_.n_ranks);
+  clouds.clear();
+  // Each RVE gets its group's state: a copy, the last one of the group the state itself.
+  std::vector<std::size_t> last(set.groups.size(), 0);
+  for (std::size_t k = 0; k < n; ++k) last[set.of[k]] = k;
+  for (std::size_t k = 0; k < n; ++k) {
+    native::PreparedRve& g = set.groups[set.of[k]];
+    RveRecord& r = rves_[k];
+    r.state = last[set.of[k]] == k ? std::move(g.state) : g.state;
+    r.unbalanced = g.unbalanced;
+    const double mean = (init[k].stress[0] + init[k].stress[4] + init[k].stress[8]) / 3.0;
     r.p0 = std::max(std::abs(mean), 1.0);
+    lists_.emplace_back(p_.verlet_skin);
     fill_reply(k, as_int(protocol::RveStatus::kOk),
                static_cast<std::int32_t>(r.state.spheres.size()), reply[k]);
     if (reply[k].status == as_int(protocol::RveStatus::kNonFinite)) {
@@ -118,17 +143,32 @@ void NativeBackend::initialise(const protocol::RveInit* init, protocol::RveReply
                 std::to_string(ctx_.first_rve + k) + " step 0: non-finite values";
     }
   }
-  // The cost of preparing the RVEs (the consolidation is most of it when the points carry
-  // an initial stress), one line per rank in dem_app's log.
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  log_preparation(set.tally,
+                  std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+                  static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC);
+  last_tally_ = set.tally;
+}
+
+// The cost of preparing the RVEs (the consolidation is most of it when the points carry an
+// initial stress), one line per rank in dem_app's log. The figures per RVE count the steps
+// of the state it got, wherever it was consolidated; "distinct" counts the consolidations
+// this rank needed, and where each came from.
+void NativeBackend::log_preparation(const native::PreparationTally& t, double seconds,
+                                    double cpu_seconds) const {
   std::cerr << "dem_app rank " << ctx_.rank << ": prepared " << ctx_.n_rve << " RVEs in " << seconds
-            << " s; " << consolidated << " consolidated, DEM steps mean "
-            << (consolidated ? consolidation_steps / static_cast<long>(consolidated) : 0)
-            << ", max " << consolidation_max;
-  if (not_converged > 0) {
-    std::cerr << "; WARNING: " << not_converged << " did not reach their stress within "
-              << cp.max_steps
+            << " s (CPU " << cpu_seconds << " s); " << t.consolidated
+            << " consolidated, DEM steps mean "
+            << (t.consolidated ? t.steps_sum / static_cast<long>(t.consolidated) : 0) << ", max "
+            << t.steps_max << "; " << t.distinct << " distinct (packing, stress): " << t.computed
+            << " consolidated here in " << t.steps_run << " DEM steps, " << t.from_cache
+            << " from the consolidation cache";
+  if (consolidation_cache_) {
+    std::cerr << " " << consolidation_cache_->dir().string();
+    if (t.rejected > 0) std::cerr << " (" << t.rejected << " unusable entries recomputed)";
+  }
+  if (t.not_converged > 0) {
+    std::cerr << "; WARNING: " << t.not_converged << " did not reach their stress within "
+              << p_.consolidation_max_steps
               << " steps and are kept as reached (coupling.native.consolidation_on_failure: warn)";
   }
   std::cerr << std::endl;
@@ -332,6 +372,7 @@ void NativeBackend::adopt(std::uint64_t first_rve, std::uint64_t n_rve,
 
 NativeParams native_params(const config::Config& cfg) {
   check_rve_backend(cfg, "native");
+  check_consolidation_cache(cfg);
   NativeParams p;
   std::string dir = cfg.string("coupling.native.packing_dir");
   if (!dir.empty() && !std::filesystem::path(dir).is_absolute()) {
@@ -357,6 +398,11 @@ NativeParams native_params(const config::Config& cfg) {
   p.consolidation_max_steps =
       static_cast<long>(cfg.integer("coupling.native.consolidation_max_steps"));
   p.consolidation_warn = cfg.string("coupling.native.consolidation_on_failure") == "warn";
+  std::string cache = cfg.string("coupling.native.consolidation_cache");
+  if (!cache.empty() && !std::filesystem::path(cache).is_absolute()) {
+    cache = (std::filesystem::path(cfg.file()).parent_path() / cache).lexically_normal().string();
+  }
+  p.consolidation_cache = cache;
   p.verlet_skin = cfg.number("coupling.native.verlet_skin");
   return p;
 }

@@ -14,6 +14,7 @@
 #include "backend.hpp"
 #include "backends/native/binary_state.hpp"
 #include "backends/native/neighbour_list.hpp"
+#include "backends/native/rve_preparation.hpp"
 #include "mpmdem/config/schema.hpp"
 
 namespace mpmdem::dem {
@@ -34,6 +35,9 @@ struct NativeParams {
   double consolidation_tol = 1e-3, consolidation_unbalanced = 0.01;
   long consolidation_max_steps = 200000;
   bool consolidation_warn = false;  // consolidation_on_failure: warn
+  // Folder of consolidated states reused across runs and ranks (rve_preparation.hpp); empty:
+  // none (the RVEs of a rank still share one consolidation per distinct key).
+  std::string consolidation_cache;
   double verlet_skin = 0.5;
 };
 
@@ -65,21 +69,34 @@ class NativeBackend final : public RveBackend {
   // independent, so the results do not depend on it).
   int threads() const { return threads_; }
   void set_threads(int n) { threads_ = n < 1 ? 1 : n; }
+  // What the last initialise() consolidated, copied and read from the cache.
+  const native::PreparationTally& preparation_tally() const { return last_tally_; }
 
  private:
-  native::RveRecord make_rve(std::uint64_t point, double pressure);
+  // Packing of RVE `point` (the draw of coupling.native.seed; empty: a built cloud).
+  std::string packing_name(std::uint64_t point) const;
+  // The packing's starting state and its hash, read once per name.
+  struct Packing {
+    native::RveState state;
+    native::StateHash hash;
+  };
+  const Packing& packing(const std::string& name);
+  native::RveState cloud(std::uint64_t point) const;
   void fill_reply(std::size_t k, std::int32_t status, std::int32_t n_sub,
                   protocol::RveReply& reply) const;
   void regularise(std::size_t k, std::uint64_t step);
+  void log_preparation(const native::PreparationTally& t, double seconds, double cpu_seconds) const;
 
   NativeParams p_;
   BackendContext ctx_;
   std::vector<native::RveRecord> rves_;
   std::vector<native::NeighbourList> lists_;
   std::map<std::uint64_t, protocol::RveReply> last_reply_;  // kFlagSkip cache (by gid)
-  // Packings read once per name (make_rve copies them): the paper scene's 70,389 RVEs draw
-  // 8 packings, and parsing a 600 KB text file per RVE took minutes.
-  std::map<std::string, native::RveState> packing_cache_;
+  // Packings read once per name: the paper scene's 70,389 RVEs draw 8 packings, and parsing
+  // a 600 KB text file per RVE took minutes.
+  std::map<std::string, Packing> packing_cache_;
+  std::unique_ptr<native::ConsolidationCache> consolidation_cache_;  // null: none
+  native::PreparationTally last_tally_;
   std::uint64_t step_no_ = 0;
   int threads_ = 1;
   std::string fault_;

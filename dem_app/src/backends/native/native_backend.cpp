@@ -20,8 +20,8 @@
 #include "backends/native/integrator.hpp"
 #include "backends/native/measures.hpp"
 #include "backends/native/packing.hpp"
-#include "backends/native/rve_reply.hpp"
 #include "backends/native/rve_preparation.hpp"
+#include "backends/native/rve_reply.hpp"
 #include "coupling_rules.hpp"
 
 namespace mpmdem::dem {

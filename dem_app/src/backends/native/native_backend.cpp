@@ -13,6 +13,7 @@
 #include <ctime>
 #include <exception>
 #include <random>
+#include <sstream>
 #include <stdexcept>
 #include <utility>
 
@@ -155,23 +156,26 @@ void NativeBackend::initialise(const protocol::RveInit* init, protocol::RveReply
 // this rank needed, and where each came from.
 void NativeBackend::log_preparation(const native::PreparationTally& t, double seconds,
                                     double cpu_seconds) const {
-  std::cerr << "dem_app rank " << ctx_.rank << ": prepared " << ctx_.n_rve << " RVEs in " << seconds
-            << " s (CPU " << cpu_seconds << " s); " << t.consolidated
-            << " consolidated, DEM steps mean "
-            << (t.consolidated ? t.steps_sum / static_cast<long>(t.consolidated) : 0) << ", max "
-            << t.steps_max << "; " << t.distinct << " distinct (packing, stress): " << t.computed
-            << " consolidated here in " << t.steps_run << " DEM steps, " << t.from_cache
-            << " from the consolidation cache";
+  // Composed first and written in one call: the ranks share the log, and std::cerr writes
+  // every << on its own, so the lines of ranks that finish together would interleave.
+  std::ostringstream line;
+  line << "dem_app rank " << ctx_.rank << ": prepared " << ctx_.n_rve << " RVEs in " << seconds
+       << " s (CPU " << cpu_seconds << " s); " << t.consolidated << " consolidated, DEM steps mean "
+       << (t.consolidated ? t.steps_sum / static_cast<long>(t.consolidated) : 0) << ", max "
+       << t.steps_max << "; " << t.distinct << " distinct (packing, stress): " << t.computed
+       << " consolidated here in " << t.steps_run << " DEM steps, " << t.from_cache
+       << " from the consolidation cache";
   if (consolidation_cache_) {
-    std::cerr << " " << consolidation_cache_->dir().string();
-    if (t.rejected > 0) std::cerr << " (" << t.rejected << " unusable entries recomputed)";
+    line << " " << consolidation_cache_->dir().string();
+    if (t.rejected > 0) line << " (" << t.rejected << " unusable entries recomputed)";
   }
   if (t.not_converged > 0) {
-    std::cerr << "; WARNING: " << t.not_converged << " did not reach their stress within "
-              << p_.consolidation_max_steps
-              << " steps and are kept as reached (coupling.native.consolidation_on_failure: warn)";
+    line << "; WARNING: " << t.not_converged << " did not reach their stress within "
+         << p_.consolidation_max_steps
+         << " steps and are kept as reached (coupling.native.consolidation_on_failure: warn)";
   }
-  std::cerr << std::endl;
+  line << "\n";
+  std::cerr << line.str() << std::flush;
 }
 
 int NativeBackend::n_substeps(const protocol::RveRequest& req, double dem_dt) const {

@@ -3,6 +3,8 @@
 #include <Eigen/LU>
 #include <cmath>
 
+#include "parallel.hpp"
+
 namespace mpmdem::mpm {
 
 void GridWork::before_update(const Grid& grid, const Vec3& gravity, double damping) {
@@ -52,14 +54,20 @@ double grid_kinetic_energy(const Grid& grid) {
   return e;
 }
 
-double stress_work(const Particles& p, bool volume_after_update) {
-  double w = 0.0;
-  for (std::size_t q = 0; q < p.size(); ++q) {
+double stress_work(const Particles& p, bool volume_after_update, std::vector<double>& terms) {
+  // Each point's term on the solver's threads, then summed in point order: the same bits as
+  // a serial loop, whatever the thread count.
+  const auto n = static_cast<std::ptrdiff_t>(p.size());
+  terms.resize(p.size());
+#pragma omp parallel for schedule(static) if (n > kParallelMin)
+  for (std::ptrdiff_t q = 0; q < n; ++q) {
     const Mat3& dF = p.dF[q];
     const Mat3 de = 0.5 * (dF + dF.transpose()) - Mat3::Identity();
     const double V = volume_after_update ? p.V[q] : p.V[q] / dF.determinant();
-    w += V * (p.sigma[q].cwiseProduct(de)).sum();
+    terms[q] = V * (p.sigma[q].cwiseProduct(de)).sum();
   }
+  double w = 0.0;
+  for (double t : terms) w += t;
   return w;
 }
 

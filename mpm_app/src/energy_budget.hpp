@@ -77,7 +77,8 @@ class GridWork {
 };
 
 // sum_p V_p sigma_p : sym(dF_p - I) with V_p the current volume (volume_after_update: the
-// volume after dF_p was applied) or V_p / det(dF_p) (the volume before the step).
-double stress_work(const Particles& p, bool volume_after_update);
+// volume after dF_p was applied) or V_p / det(dF_p) (the volume before the step). terms:
+// scratch for the per-point terms (its memory is reused from call to call).
+double stress_work(const Particles& p, bool volume_after_update, std::vector<double>& terms);
 
 }  // namespace mpmdem::mpm

@@ -30,6 +30,46 @@ void compact(std::vector<T>& v, const std::vector<char>& keep) {
   v.resize(j);
 }
 
+// dst = src for one per-point field, the entries copied on the solver's threads into dst's
+// memory (a field of another length than the points, e.g. an unused optional one, is assigned).
+template <class T>
+void copy_field(const std::vector<T>& src, std::vector<T>& dst, std::size_t n) {
+  if (src.size() != n) {
+    dst = src;
+    return;
+  }
+  dst.resize(n);
+  const auto count = static_cast<std::ptrdiff_t>(n);
+#pragma omp parallel for schedule(static) if (count > kParallelMin)
+  for (std::ptrdiff_t q = 0; q < count; ++q) dst[q] = src[q];
+}
+
+// dst = src (every field of Particles), on the solver's threads.
+void copy_points(const Particles& src, Particles& dst) {
+  const std::size_t n = src.size();
+  copy_field(src.id, dst.id, n);
+  copy_field(src.region, dst.region, n);
+  copy_field(src.m, dst.m, n);
+  copy_field(src.V, dst.V, n);
+  copy_field(src.V0, dst.V0, n);
+  copy_field(src.x, dst.x, n);
+  copy_field(src.x0, dst.x0, n);
+  copy_field(src.v, dst.v, n);
+  copy_field(src.C, dst.C, n);
+  copy_field(src.F, dst.F, n);
+  copy_field(src.dF, dst.dF, n);
+  copy_field(src.sigma, dst.sigma, n);
+  copy_field(src.stiffness, dst.stiffness, n);
+  copy_field(src.strain_energy, dst.strain_energy, n);
+  copy_field(src.rotation, dst.rotation, n);
+  copy_field(src.porosity, dst.porosity, n);
+  copy_field(src.coordination, dst.coordination, n);
+  copy_field(src.unbalanced_force, dst.unbalanced_force, n);
+  copy_field(src.status, dst.status, n);
+  static_assert(sizeof(Particles) == 19 * sizeof(std::vector<double>),
+                "a field was added to Particles: copy it in copy_points()");
+}
+
 template <class T>
 void fill_if_empty(std::vector<T>& v, std::size_t n, const T& value) {
   if (v.empty()) v.assign(n, value);
@@ -247,7 +287,7 @@ void Solver::step() {
   // n stresses. Time, step and the energy budget change only once the step succeeded; the
   // points are copied (reusing the copy's memory) and restored if the step throws.
   const bool restorable = scene_.constitutive.model == ModelKind::kRemote;
-  if (restorable) step_start_ = p_;
+  if (restorable) copy_points(p_, step_start_);
   const std::int64_t before = step_;
   try {
     if (scene_.solver.shape == ShapeKind::kQuadraticBSpline) {
@@ -257,7 +297,7 @@ void Solver::step() {
     }
   } catch (...) {
     if (restorable && step_ == before) {  // else the step's state is whole
-      p_ = step_start_;
+      copy_points(step_start_, p_);
       E_k_points_ = -1.0;
     }
     throw;
@@ -315,7 +355,7 @@ void Solver::step_with(Stencils<Shape::kWidth>& stencils, double dt) {
         << ", or check the material parameters";
     throw SimulationError(msg.str());
   }
-  const double W_int_start = stress_work(p_, false);
+  const double W_int_start = stress_work(p_, false, work_terms_);
   const auto t3 = Clock::now();
   // Stresses for the whole batch in one call.
   const auto n = static_cast<std::ptrdiff_t>(p_.size());
@@ -333,7 +373,7 @@ void Solver::step_with(Stencils<Shape::kWidth>& stencils, double dt) {
   dt_ = dt;
   apply_responses();
   check_finite_state(step, dt);
-  budget_.W_int += 0.5 * (W_int_start + stress_work(p_, true));
+  budget_.W_int += 0.5 * (W_int_start + stress_work(p_, true, work_terms_));
   budget_.W_damp += step_work.W_damp;
   budget_.W_bc += step_work.W_bc;
   budget_.W_transfer += step_work.W_transfer;

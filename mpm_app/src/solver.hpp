@@ -155,8 +155,9 @@ class Solver {
   ScatterBuffers buffers_;
   Stencils<LinearShape::kWidth> stencils_linear_;
   Stencils<QuadraticBSplineShape::kWidth> stencils_quadratic_;
-  std::vector<std::size_t> slot_;  // provider slot of each point
-  std::vector<Mat3> dF_slots_;     // batch sent to the provider (identity on removed slots)
+  std::vector<std::size_t> slot_;   // provider slot of each point
+  std::vector<double> work_terms_;  // stress_work()'s per-point terms
+  std::vector<Mat3> dF_slots_;      // batch sent to the provider (identity on removed slots)
   std::vector<PointResponse> responses_;
   std::optional<elastic::ElasticLaw> law_;  // strain energy (local models only)
   double time_ = 0.0;

@@ -26,29 +26,42 @@ class LazyEvaluation {
   bool enabled() const { return tol_ > 0.0; }
   // Point p's increment of this step. true: run the RVE with (dF_run, dt_run); false: skip.
   bool next(std::size_t p, const Mat3& dF, double dt, Mat3& dF_run, double& dt_run) {
+    prepare(p + 1);
+    const bool run = decide(p, dF, dt, dF_run, dt_run);
+    count(run ? 1 : 0, run ? 0 : 1);
+    return run;
+  }
+
+  // The same decision for many points at once, from several threads: prepare(n) once, then
+  // decide(p, ...) for each point p < n (points are independent: decide touches only point
+  // p's pending increment), then count() the runs and skips. Same state and counts as next().
+  void prepare(std::size_t n) {
+    if (enabled() && pending_.size() < n) {
+      pending_.resize(n, Mat3::Identity());
+      pending_dt_.resize(n, 0.0);
+    }
+  }
+  bool decide(std::size_t p, const Mat3& dF, double dt, Mat3& dF_run, double& dt_run) {
     if (!enabled()) {
       dF_run = dF;
       dt_run = dt;
-      ++evaluations_;
       return true;
-    }
-    if (p >= pending_.size()) {
-      pending_.resize(p + 1, Mat3::Identity());
-      pending_dt_.resize(p + 1, 0.0);
     }
     const Mat3 acc = dF * pending_[p];
     if ((acc - Mat3::Identity()).cwiseAbs().maxCoeff() <= tol_) {
       pending_[p] = acc;
       pending_dt_[p] += dt;
-      ++skipped_;
       return false;
     }
     dF_run = acc;
     dt_run = pending_dt_[p] + dt;
     pending_[p] = Mat3::Identity();
     pending_dt_[p] = 0.0;
-    ++evaluations_;
     return true;
+  }
+  void count(std::int64_t runs, std::int64_t skips) {
+    evaluations_ += runs;
+    skipped_ += skips;
   }
 
   std::int64_t evaluations() const { return evaluations_; }

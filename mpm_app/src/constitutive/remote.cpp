@@ -18,6 +18,7 @@
 #include "constitutive/load_balancer.hpp"
 #include "mpmdem/exchange.hpp"
 #include "mpmdem/partition.hpp"
+#include "parallel.hpp"
 
 namespace mpmdem::mpm {
 
@@ -104,19 +105,27 @@ class RemoteProvider : public ConstitutiveProvider {
 
   void update(const std::vector<Mat3>& dF, double dt, std::int64_t step, double time,
               std::vector<PointResponse>& out) override {
+    // Points are independent: pack the requests on the solver's threads (the counts are
+    // integers, so the result does not depend on the thread count).
+    const auto n = static_cast<std::ptrdiff_t>(dF.size());
     requests_.resize(dF.size());
-    for (std::size_t p = 0; p < dF.size(); ++p) {
+    lazy_.prepare(dF.size());
+    std::int64_t runs = 0;
+#pragma omp parallel for schedule(static) if (n > kParallelMin) reduction(+ : runs)
+    for (std::ptrdiff_t p = 0; p < n; ++p) {
       protocol::RveRequest& r = requests_[slot_[p]];
       r.flags = 0;
       r.reserved = 0;
       Mat3 run_dF;
-      if (lazy_.next(p, dF[p], dt, run_dF, r.dt)) {
+      if (lazy_.decide(static_cast<std::size_t>(p), dF[p], dt, run_dF, r.dt)) {
         Eigen::Map<RowMajor3>(r.dF) = run_dF;  // row-major: dF[3*i + j] = dF_ij
+        ++runs;
       } else {
         Eigen::Map<RowMajor3>(r.dF) = Mat3::Identity();
         r.flags = protocol::kFlagSkip;  // the server returns the RVE's last reply
       }
     }
+    lazy_.count(runs, n - runs);
     protocol::ControlHeader header;
     std::memset(&header, 0, sizeof header);
     header.step = step;
@@ -149,11 +158,21 @@ class RemoteProvider : public ConstitutiveProvider {
     return true;
   }
 
-  int dem_ranks() const override { return client_.server_ranks(); }
-  std::int64_t rebalances() const override { return balancer_.rebalances(); }
-  std::int64_t rve_evaluations() const override { return lazy_.evaluations(); }
-  std::int64_t rve_skipped() const override { return lazy_.skipped(); }
-  std::vector<double> save_state() const override { return lazy_.save(); }
+  int dem_ranks() const override {
+    return client_.server_ranks();
+  }
+  std::int64_t rebalances() const override {
+    return balancer_.rebalances();
+  }
+  std::int64_t rve_evaluations() const override {
+    return lazy_.evaluations();
+  }
+  std::int64_t rve_skipped() const override {
+    return lazy_.skipped();
+  }
+  std::vector<double> save_state() const override {
+    return lazy_.save();
+  }
   void load_state(const std::vector<double>& s) override {
     if (!s.empty()) lazy_.load(s);  // empty: a checkpoint written before lazy evaluation
   }
@@ -175,13 +194,17 @@ class RemoteProvider : public ConstitutiveProvider {
     client_.checkpoint(dir, step);
   }
 
-  void finish() override { client_.shutdown(); }
+  void finish() override {
+    client_.shutdown();
+  }
 
  private:
   void to_responses(const std::vector<protocol::RveReply>& replies,
                     std::vector<PointResponse>& out) const {
     out.resize(replies.size());
-    for (std::size_t p = 0; p < replies.size(); ++p) {
+    const auto n = static_cast<std::ptrdiff_t>(replies.size());
+#pragma omp parallel for schedule(static) if (n > kParallelMin)
+    for (std::ptrdiff_t p = 0; p < n; ++p) {
       const protocol::RveReply& r = replies[slot_[p]];
       PointResponse& o = out[p];
       o.stress = Eigen::Map<const RowMajor3>(r.stress);

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "mpmdem/protocol.hpp"
+#include "mpmdem/rve_status.hpp"
 #include "particle_init.hpp"
 #include "state_guard.hpp"
 #include "time_step.hpp"
@@ -77,28 +78,6 @@ void fill_if_empty(std::vector<T>& v, std::size_t n, const T& value) {
     throw std::invalid_argument("Solver: a particle field has " + std::to_string(v.size()) +
                                 " entries for " + std::to_string(n) + " points");
   }
-}
-
-const char* status_name(std::int32_t s) {
-  switch (static_cast<protocol::RveStatus>(s)) {
-    case protocol::RveStatus::kOk:
-      return "ok";
-    case protocol::RveStatus::kNoContacts:
-      return "no contacts";
-    case protocol::RveStatus::kNonFinite:
-      return "non-finite (NaN/Inf inside the RVE)";
-    case protocol::RveStatus::kExploding:
-      return "exploding (RVE kinetic energy blew up)";
-    case protocol::RveStatus::kBackendError:
-      return "backend error";
-  }
-  return "unknown";
-}
-
-bool fatal_status(std::int32_t s) {
-  return s == static_cast<std::int32_t>(protocol::RveStatus::kNonFinite) ||
-         s == static_cast<std::int32_t>(protocol::RveStatus::kExploding) ||
-         s == static_cast<std::int32_t>(protocol::RveStatus::kBackendError);
 }
 
 std::string vec(const Vec3& x) {
@@ -419,7 +398,7 @@ void Solver::apply_responses() {
 #pragma omp parallel for schedule(static) if (n > kParallelMin) reduction(min : bad)
   for (std::ptrdiff_t q = 0; q < n; ++q) {
     const PointResponse& r = responses_[slot_[q]];
-    if (!r.stress.allFinite() || !std::isfinite(r.stiffness) || fatal_status(r.status)) {
+    if (!r.stress.allFinite() || !std::isfinite(r.stiffness) || mpmdem::is_fatal(r.status)) {
       bad = std::min(bad, static_cast<std::size_t>(q));
       continue;
     }
@@ -439,8 +418,8 @@ void Solver::apply_responses() {
   const PointResponse& r = responses_[slot_[bad]];
   std::ostringstream msg;
   msg << "constitutive provider '" << provider_->name() << "' ";
-  if (fatal_status(r.status)) {
-    msg << "reports status " << r.status << " (" << status_name(r.status) << ") for ";
+  if (mpmdem::is_fatal(r.status)) {
+    msg << "reports status " << r.status << " (" << mpmdem::status_name(r.status) << ") for ";
   } else if (!r.stress.allFinite()) {
     msg << "returned a non-finite stress for ";
   } else {

@@ -287,6 +287,26 @@ TEST(Solver, FatalRveStatusStopsTheRun) {
   }
 }
 
+// The one status vocabulary (interface/rve_status.hpp): a code this build does not know is
+// fatal here as in the exchange, and the message names it.
+TEST(Solver, UnknownRveStatusStopsTheRunAsTheExchangeDoes) {
+  Scene s = box(0.05, Vec3(0.2, 0.2, 0.2));
+  s.regions.push_back(region("r", Vec3(0, 0, 0), Vec3(0.1, 0.1, 0.1)));
+  auto unknown = [](std::int64_t, const std::vector<Mat3>&, std::vector<PointResponse>& out) {
+    out[5].status = 42;
+  };
+  Solver solver(s, generate_particles(s),
+                std::make_unique<HookedProvider>(s.constitutive, unknown));
+  try {
+    solver.step();
+    FAIL() << "no SimulationError";
+  } catch (const SimulationError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("status 42 (unknown status 42)"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("material point 5 "), std::string::npos) << msg;
+  }
+}
+
 namespace {
 
 // The elastic column scene (configs/elastic_column.yaml, h = 0.05 m) with the given shape

@@ -29,6 +29,7 @@
 #include "mpmdem/partition.hpp"
 #include "mpmdem/peer_watch.hpp"
 #include "mpmdem/protocol.hpp"
+#include "mpmdem/rve_status.hpp"
 
 namespace mpmdem {
 
@@ -37,10 +38,6 @@ struct ExchangeTiming {
   double max_compute_s = 0.0;   // slowest server rank's backend time in it
   double mean_compute_s = 0.0;  // mean over the server ranks (max / mean: the imbalance)
 };
-
-// A fatal RVE status (anything but kOk and kNoContacts).
-bool is_fatal(std::int32_t rve_status);
-std::string status_name(std::int32_t rve_status);
 
 // MPI datatypes for the payload structs (MPI_Type_contiguous of sizeof(T) bytes).
 class PayloadTypes {

@@ -60,8 +60,9 @@ void add_rve_backend_keys(config::Schema& s, const RveBackendKeys& k) {
   s.add(key(p + "contact_law", Type::kEnum, "",
             "contact law of every RVE: frict (FrictMat, Law2_ScGeom_FrictPhys_CundallStrack) or "
             "frict_visco (the same springs and slider with a normal dashpot set by " +
-                p + "restitution_normal: FrictViscoMat, "
-                    "Law2_ScGeom_FrictViscoPhys_CundallStrackVisco; docs/theory_contact_law.md)")
+                p +
+                "restitution_normal: FrictViscoMat, "
+                "Law2_ScGeom_FrictViscoPhys_CundallStrackVisco; docs/theory_contact_law.md)")
             .def("frict")
             .one_of({"frict", "frict_visco"}));
   s.add(key(p + "restitution_normal", Type::kDouble, "-",

@@ -176,6 +176,7 @@ TEST(CouplingRules, ContactLawAndRestitution) {
   // cuda has the frict law only.
   const std::string cuda = coupling_error(
       "  backend: cuda\n  native:\n    contact_law: frict_visco\n    restitution_normal: 0.5\n");
-  EXPECT_CONTAINS(cuda, "coupling.native.contact_law frict_visco is not available with backend "
-                        "cuda");
+  EXPECT_CONTAINS(cuda,
+                  "coupling.native.contact_law frict_visco is not available with backend "
+                  "cuda");
 }

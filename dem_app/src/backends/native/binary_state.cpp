@@ -169,8 +169,7 @@ RveRecord decode(const std::string& blob) {
                           sp.vel.size() == n && sp.ang_vel.size() == n && sp.ori.size() == n &&
                           sp.ref_ori.size() == n && c.id2.size() == m && c.cell.size() == m &&
                           c.normal.size() == m && c.shear_force.size() == m &&
-                          c.penetration.size() == m &&
-                          (!c.viscous || c.normal_viscous.size() == m);
+                          c.penetration.size() == m && (!c.viscous || c.normal_viscous.size() == m);
   if (!consistent || !in.done()) In::fail();
   for (std::size_t k = 0; k < m; ++k) {
     if (c.id1[k] >= n || c.id2[k] >= n) In::fail();

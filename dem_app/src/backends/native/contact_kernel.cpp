@@ -118,14 +118,14 @@ MPMDEM_ALWAYS_INLINE void contact_body(
   }
 }
 
-#define MPMDEM_CONTACT_ARGS                                                                   \
-  std::size_t m, const LawConstants &kc, const StagedContacts *__restrict st,                 \
-      double *__restrict nx, double *__restrict ny, double *__restrict nz,                    \
-      double *__restrict sx, double *__restrict sy, double *__restrict sz,                    \
-      double *__restrict pen_out, const double *__restrict x0, const double *__restrict x1,   \
-      const double *__restrict x2, const double *__restrict v0, const double *__restrict v1,  \
-      const double *__restrict v2, const double *__restrict w0, const double *__restrict w1_, \
-      const double *__restrict w2_, const double *__restrict rad
+#define MPMDEM_CONTACT_ARGS                                                                       \
+  std::size_t m, const LawConstants &kc, const StagedContacts *__restrict st,                     \
+      double *__restrict nx, double *__restrict ny, double *__restrict nz, double *__restrict sx, \
+      double *__restrict sy, double *__restrict sz, double *__restrict pen_out,                   \
+      const double *__restrict x0, const double *__restrict x1, const double *__restrict x2,      \
+      const double *__restrict v0, const double *__restrict v1, const double *__restrict v2,      \
+      const double *__restrict w0, const double *__restrict w1_, const double *__restrict w2_,    \
+      const double *__restrict rad
 MPMDEM_SIMD_CLONES void contact_loop(MPMDEM_CONTACT_ARGS, ContactOut* __restrict out) {
   contact_body<false>(m, kc, st, nx, ny, nz, sx, sy, sz, pen_out, x0, x1, x2, v0, v1, v2, w0, w1_,
                       w2_, rad, nullptr, nullptr, out);
@@ -193,13 +193,12 @@ void update_contacts(RveState& s, const LawConstants& k, std::size_t k0, std::si
   stage_contacts(s, k0, m, st);
   if (s.law.viscous()) {
     contact_loop_visco(
-        m, k, &st, c.normal.c[0].data() + k0, c.normal.c[1].data() + k0,
-        c.normal.c[2].data() + k0, c.shear_force.c[0].data() + k0, c.shear_force.c[1].data() + k0,
+        m, k, &st, c.normal.c[0].data() + k0, c.normal.c[1].data() + k0, c.normal.c[2].data() + k0,
+        c.shear_force.c[0].data() + k0, c.shear_force.c[1].data() + k0,
         c.shear_force.c[2].data() + k0, c.penetration.data() + k0, sp.pos.c[0].data(),
         sp.pos.c[1].data(), sp.pos.c[2].data(), sp.vel.c[0].data(), sp.vel.c[1].data(),
-        sp.vel.c[2].data(), sp.ang_vel.c[0].data(), sp.ang_vel.c[1].data(),
-        sp.ang_vel.c[2].data(), sp.radius.data(), sp.mass.data(), c.normal_viscous.data() + k0,
-        &out);
+        sp.vel.c[2].data(), sp.ang_vel.c[0].data(), sp.ang_vel.c[1].data(), sp.ang_vel.c[2].data(),
+        sp.radius.data(), sp.mass.data(), c.normal_viscous.data() + k0, &out);
     return;
   }
   contact_loop(m, k, &st, c.normal.c[0].data() + k0, c.normal.c[1].data() + k0,

@@ -27,15 +27,13 @@ struct Contributions {
 // kVisco: the frict_visco law's normal force, its dashpot part visc (Contacts::normal_viscous)
 // included; without it visc is unused (nullptr) and the loop is the frict law's.
 template <bool kVisco>
-MPMDEM_ALWAYS_INLINE void contributions_body(std::size_t m, const double (&h)[3][3], double young,
-                                      double ks_kn, const StagedContacts* __restrict st,
-                                      const double* __restrict nx, const double* __restrict ny,
-                                      const double* __restrict nz, const double* __restrict sx,
-                                      const double* __restrict sy, const double* __restrict sz,
-                                      const double* __restrict pen, const double* __restrict x0,
-                                      const double* __restrict x1, const double* __restrict x2,
-                                      const double* __restrict rad, const double* __restrict visc,
-                                      Contributions* __restrict out) {
+MPMDEM_ALWAYS_INLINE void contributions_body(
+    std::size_t m, const double (&h)[3][3], double young, double ks_kn,
+    const StagedContacts* __restrict st, const double* __restrict nx, const double* __restrict ny,
+    const double* __restrict nz, const double* __restrict sx, const double* __restrict sy,
+    const double* __restrict sz, const double* __restrict pen, const double* __restrict x0,
+    const double* __restrict x1, const double* __restrict x2, const double* __restrict rad,
+    const double* __restrict visc, Contributions* __restrict out) {
   const double* const pos[3] = {x0, x1, x2};
   for (std::size_t k = 0; k < m; ++k) {
     const std::int64_t a = st->a[k], b = st->b[k];
@@ -70,19 +68,18 @@ MPMDEM_ALWAYS_INLINE void contributions_body(std::size_t m, const double (&h)[3]
   }
 }
 
-#define MPMDEM_CONTRIBUTION_ARGS                                                            \
-  std::size_t m, const double(&h)[3][3], double young, double ks_kn,                        \
-      const StagedContacts *__restrict st, const double *__restrict nx,                     \
-      const double *__restrict ny, const double *__restrict nz, const double *__restrict sx, \
+#define MPMDEM_CONTRIBUTION_ARGS                                                              \
+  std::size_t m, const double(&h)[3][3], double young, double ks_kn,                          \
+      const StagedContacts *__restrict st, const double *__restrict nx,                       \
+      const double *__restrict ny, const double *__restrict nz, const double *__restrict sx,  \
       const double *__restrict sy, const double *__restrict sz, const double *__restrict pen, \
-      const double *__restrict x0, const double *__restrict x1, const double *__restrict x2, \
+      const double *__restrict x0, const double *__restrict x1, const double *__restrict x2,  \
       const double *__restrict rad
 MPMDEM_SIMD_CLONES void contributions(MPMDEM_CONTRIBUTION_ARGS, Contributions* __restrict out) {
   contributions_body<false>(m, h, young, ks_kn, st, nx, ny, nz, sx, sy, sz, pen, x0, x1, x2, rad,
                             nullptr, out);
 }
-MPMDEM_SIMD_CLONES void contributions_visco(MPMDEM_CONTRIBUTION_ARGS,
-                                            const double* __restrict visc,
+MPMDEM_SIMD_CLONES void contributions_visco(MPMDEM_CONTRIBUTION_ARGS, const double* __restrict visc,
                                             Contributions* __restrict out) {
   contributions_body<true>(m, h, young, ks_kn, st, nx, ny, nz, sx, sy, sz, pen, x0, x1, x2, rad,
                            visc, out);
@@ -120,9 +117,9 @@ StressStiffness stress_and_stiffness(const RveState& s, bool stiffness) {
       contributions_visco(
           m, h, s.material.young, s.material.ks_kn, &st, c.normal.c[0].data() + k0,
           c.normal.c[1].data() + k0, c.normal.c[2].data() + k0, c.shear_force.c[0].data() + k0,
-          c.shear_force.c[1].data() + k0, c.shear_force.c[2].data() + k0,
-          c.penetration.data() + k0, s.spheres.pos.c[0].data(), s.spheres.pos.c[1].data(),
-          s.spheres.pos.c[2].data(), s.spheres.radius.data(), c.normal_viscous.data() + k0, &out);
+          c.shear_force.c[1].data() + k0, c.shear_force.c[2].data() + k0, c.penetration.data() + k0,
+          s.spheres.pos.c[0].data(), s.spheres.pos.c[1].data(), s.spheres.pos.c[2].data(),
+          s.spheres.radius.data(), c.normal_viscous.data() + k0, &out);
       add_to_lanes(lanes, out, m);
       continue;
     }
@@ -175,8 +172,8 @@ double elastic_energy(const RveState& s) {
   double e = 0;
   for (std::size_t k = 0; k < c.size(); ++k) {
     const FrictPhys phys = contact_stiffness(s, k);
-    e += 0.5 *
-         (elastic_normal_force(s, k).squaredNorm() / phys.kn + c.shear_force[k].squaredNorm() / phys.ks);
+    e += 0.5 * (elastic_normal_force(s, k).squaredNorm() / phys.kn +
+                c.shear_force[k].squaredNorm() / phys.ks);
   }
   return e;
 }

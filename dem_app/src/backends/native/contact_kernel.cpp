@@ -182,8 +182,7 @@ LawConstants law_constants(const RveState& s) {
 void update_contacts(RveState& s, const LawConstants& k, std::size_t k0, std::size_t m,
                      ContactOut& out, const double* rec) {
   if (m == 0) return;
-  // The AVX-512 records kernel has the frict law only: frict_visco RVEs take the loop below.
-  if (rec && !s.law.viscous()) {
+  if (rec) {
     update_contacts_records(s, k, k0, m, rec, out);
     return;
   }

@@ -140,8 +140,7 @@ void compute_forces(RveState& s, NeighbourList& nl) {
   auto& c = s.contacts;
   const LawConstants law = law_constants(s);
   ContactOut out;
-  // nullptr: no AVX-512, or a law the AVX-512 kernel does not have (frict_visco)
-  const double* rec = s.law.viscous() ? nullptr : pack_sphere_records(s);
+  const double* rec = pack_sphere_records(s);  // nullptr: no AVX-512
   // Existing contacts, a chunk at a time: update (vectorised), then forces in contact order.
   bool opened = false;
   for (std::size_t k0 = 0; k0 < c.size(); k0 += kContactChunk) {

@@ -108,8 +108,7 @@ StressStiffness stress_and_stiffness(const RveState& s, bool stiffness) {
   static_assert(kTerms == 15 && kLanes == 8, "stress_terms_records' lanes");
   Contributions out;
   StagedContacts st;
-  // with AVX-512 (the frict law only)
-  const bool done = !c.viscous && stress_terms_records(s, h, lanes);
+  const bool done = stress_terms_records(s, h, lanes);  // with AVX-512
   for (std::size_t k0 = 0; !done && k0 < c.size(); k0 += kChunk) {
     const std::size_t m = std::min(kChunk, c.size() - k0);
     stage_contacts(s, k0, m, st);

@@ -61,6 +61,15 @@ for n in range(10):
     dfs.append(dF)
     reply, _ = rs.step(struct.pack("9d", *dF), struct.pack("I", 0), n + 1)
     yade.append(list(struct.unpack("19d", reply)[0:9]))
+if e_n is not None:
+    # YADE's side really has the dashpot: every contact a FrictViscoPhys with c_n > 0 (the
+    # scene was converted), and the law it dispatches to acts (a non-zero viscous force).
+    phys = [i.phys for i in O.interactions if i.isReal]
+    assert phys and all(type(ph).__name__ == "FrictViscoPhys" and ph.cn > 0 for ph in phys), \
+        set(type(ph).__name__ for ph in phys)
+    assert max(ph.normalViscous.norm() for ph in phys) > 0, "no viscous force in YADE"
+    print("YADE: %d FrictViscoPhys contacts, max |normalViscous| %.3g N"
+          % (len(phys), max(ph.normalViscous.norm() for ph in phys)))
 with open(os.path.join(work, "df.txt"), "w") as f:
     for dF in dfs:
         f.write(" ".join(repr(v) for v in dF) + "\n")

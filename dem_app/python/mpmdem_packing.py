@@ -78,22 +78,60 @@ def radii_range(p):
     return p["size_min"] * f, p["size_max"] * f
 
 
-def engines(y, damping, with_triax):
+def engines(y, damping, with_triax, contact_law="frict"):
     """Engine list; order is fixed so engines can be addressed by index after a switch:
-    0 ForceResetter, 1 collider, 2 InteractionLoop, [3 PeriTriaxController], last Newton."""
+    0 ForceResetter, 1 collider, 2 InteractionLoop, [3 PeriTriaxController], last Newton.
+    contact_law: frict (FrictMat, CundallStrack) or frict_visco (FrictViscoMat with a normal
+    dashpot, CundallStrackVisco; the scene's bodies converted by to_frict_visco)."""
+    if contact_law == "frict_visco":
+        ip2, law2 = y.Ip2_FrictViscoMat_FrictViscoMat_FrictViscoPhys(), \
+            y.Law2_ScGeom_FrictViscoPhys_CundallStrackVisco()
+    else:
+        ip2, law2 = y.Ip2_FrictMat_FrictMat_FrictPhys(), y.Law2_ScGeom_FrictPhys_CundallStrack()
     e = [
         y.ForceResetter(),
         y.InsertionSortCollider([y.Bo1_Sphere_Aabb()]),
-        y.InteractionLoop(
-            [y.Ig2_Sphere_Sphere_ScGeom()],
-            [y.Ip2_FrictMat_FrictMat_FrictPhys()],
-            [y.Law2_ScGeom_FrictPhys_CundallStrack()],
-        ),
+        y.InteractionLoop([y.Ig2_Sphere_Sphere_ScGeom()], [ip2], [law2]),
     ]
     if with_triax:
         e.append(y.PeriTriaxController(dynCell=True, stressMask=7, goal=(0, 0, 0), maxUnbalanced=1e9))
     e.append(y.NewtonIntegrator(damping=damping))
     return e
+
+
+def to_frict_visco(y, beta_n):
+    """The current scene (one FrictMat) with the frict_visco law: every body gets a
+    FrictViscoMat of the same moduli, density and friction with betan = beta_n, and every
+    real interaction a FrictViscoPhys computed as Ip2_FrictViscoMat_FrictViscoMat_FrictViscoPhys
+    does (kn, ks harmonic means of E r and E r poisson; cn = betan 2 sqrt(m* kn)), keeping its
+    shear and normal force. The scene is then reloaded from a string: an interaction keeps the
+    law functor it was first dispatched to (Interaction::functorCache), which the reload
+    clears, so that the new engines' CundallStrackVisco acts on every contact."""
+    O = y.O
+    old = O.bodies[0].mat
+    mat = y.FrictViscoMat(young=old.young, poisson=old.poisson, density=old.density,
+                          frictionAngle=old.frictionAngle, betan=beta_n)
+    O.materials.append(mat)
+    for b in O.bodies:
+        b.mat = mat
+    ea = eb = mat.young
+    va = vb = mat.poisson
+    for i in O.interactions:
+        if not i.isReal:
+            continue
+        ra, rb = i.geom.refR1, i.geom.refR2
+        kn = 2. * ea * ra * eb * rb / (ea * ra + eb * rb)
+        ks = 2. * ea * ra * va * eb * rb * vb / (ea * ra * va + eb * rb * vb)
+        ma, mb = O.bodies[i.id1].state.mass, O.bodies[i.id2].state.mass
+        mbar = ma * mb / (ma + mb)
+        cn_crit = 2. * math.sqrt(mbar * kn)
+        cn = cn_crit * ((beta_n + beta_n) / 2.) if beta_n != 0 else 0.
+        p = y.FrictViscoPhys(kn=kn, ks=ks, tangensOfFrictionAngle=math.tan(mat.frictionAngle),
+                             cn=cn, cn_crit=cn_crit)
+        p.shearForce = i.phys.shearForce
+        p.normalForce = i.phys.normalForce
+        i.phys = p
+    O.stringToScene(O.sceneToString())
 
 
 def consolidate(y, goal, p, max_steps=None, unb_tol=None):

@@ -79,6 +79,8 @@ class RveSet:
             pk.build_into_current_scene(q)
         else:
             O.load(os.path.join(self.p["packing_dir"], name + ".yade.bz2"))
+        if self._law() == "frict_visco":
+            pk.to_frict_visco(y, self.p["beta_n"])
         # Large shear (a column's shear band reaches gamma > 1) flattens the periodic cell
         # until a sphere spans half of it and the collider stops. Flipping re-chooses the
         # cell's base vectors (hSize) as an equivalent, less skewed lattice; the integrated
@@ -89,11 +91,15 @@ class RveSet:
     def _setup_engines(self, with_triax):
         y = self.y
         O = y.O
-        O.engines = pk.engines(y, self.p["damping"], with_triax)
+        O.engines = pk.engines(y, self.p["damping"], with_triax, self._law())
         # Cells are kept thick enough by tiling (_regularise_cell, every 10th step); between
         # two checks a fast-thinning cell may still dip below two diameters for a few steps:
         # let the collider continue then instead of stopping the run.
         O.engines[1].allowBiggerThanPeriod = True
+
+    def _law(self):
+        """coupling.yade.contact_law (frict when the C++ side does not send it)."""
+        return self.p.get("contact_law", "frict")
 
     def _stress_and_stiffness(self, want_stiffness):
         """Love-Weber stress (symmetrised) and, if asked, the stiffness bound (see _stiffness).

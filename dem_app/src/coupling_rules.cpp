@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <sstream>
 #include <system_error>
 #include <vector>
 
@@ -85,9 +86,38 @@ void check_packing_library(const config::Config& cfg, const std::string& backend
   }
 }
 
+void check_contact_law(const config::Config& cfg, const std::string& backend) {
+  const std::string p = "coupling." + backend + ".";
+  const double e = cfg.number(p + "restitution_normal");
+  if (cfg.string(p + "contact_law") == "frict" && e != 1.0) {
+    std::ostringstream v;
+    v << e;
+    cfg.fail(p + "restitution_normal",
+             v.str() + " is given but " + p +
+                 "contact_law is frict, which has no dashpot to set from it: write "
+                 "contact_law: frict_visco, or remove restitution_normal");
+  }
+}
+
+dem::native::ContactLaw contact_law(const config::Config& cfg, const std::string& backend) {
+  check_contact_law(cfg, backend);
+  const std::string p = "coupling." + backend + ".";
+  if (cfg.string(p + "contact_law") != "frict_visco") return {};
+  return dem::native::frict_visco_law(cfg.number(p + "restitution_normal"));
+}
+
+void check_cuda_contact_law(const config::Config& cfg) {
+  const std::string key = "coupling.native.contact_law";
+  if (cfg.string("coupling.backend") != "cuda" || cfg.string(key) == "frict") return;
+  cfg.fail(key, cfg.string(key) +
+                    " is not available with backend cuda, whose batch kernel has the frict law "
+                    "only: use backend native (or yade) for this law, or contact_law: frict");
+}
+
 void check_rve_backend(const config::Config& cfg, const std::string& backend) {
   check_substep_bounds(cfg, backend);
   check_packing_library(cfg, backend);
+  check_contact_law(cfg, backend);
 }
 
 void check_consolidation_cache(const config::Config& cfg) {
@@ -134,6 +164,7 @@ void check_coupling(const config::Config& cfg) {
   if (backend == "yade" || backend == "native") check_rve_backend(cfg, backend);
   if (backend == "cuda") check_rve_backend(cfg, "native");  // its physics keys
   check_no_yade_consolidation_cache(cfg);
+  check_cuda_contact_law(cfg);
 }
 
 }  // namespace mpmdem

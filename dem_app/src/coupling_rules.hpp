@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <string>
 
+#include "backends/native/contact_law_kind.hpp"
 #include "mpmdem/config/schema.hpp"
 
 namespace mpmdem {
@@ -34,7 +35,14 @@ void check_substep_bounds(const config::Config& cfg, const std::string& backend)
 // at least one name in .packings (otherwise the library would be ignored and every RVE
 // built in place).
 void check_packing_library(const config::Config& cfg, const std::string& backend);
-// The two above: what the yade and native backends check of their own section.
+// coupling.<backend>.restitution_normal stays 1 (its default) unless contact_law is
+// frict_visco: the frict law has no dashpot to set from it.
+void check_contact_law(const config::Config& cfg, const std::string& backend);
+// The law those keys choose (checked).
+dem::native::ContactLaw contact_law(const config::Config& cfg, const std::string& backend);
+// With backend cuda, coupling.native.contact_law is frict (the batch kernel has no other).
+void check_cuda_contact_law(const config::Config& cfg);
+// The three above: what the yade and native backends check of their own section.
 void check_rve_backend(const config::Config& cfg, const std::string& backend);
 // With backend yade, coupling.yade.consolidation_cache is empty (YADE keeps no cache).
 void check_no_yade_consolidation_cache(const config::Config& cfg);

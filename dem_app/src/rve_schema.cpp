@@ -57,6 +57,20 @@ void add_rve_backend_keys(config::Schema& s, const RveBackendKeys& k) {
                 ") or none (0: the client uses its own bound)")
             .def("tangent")
             .one_of({"tangent", "none"}));
+  s.add(key(p + "contact_law", Type::kEnum, "",
+            "contact law of every RVE: frict (FrictMat, Law2_ScGeom_FrictPhys_CundallStrack) or "
+            "frict_visco (the same springs and slider with a normal dashpot set by " +
+                p +
+                "restitution_normal: FrictViscoMat, "
+                "Law2_ScGeom_FrictViscoPhys_CundallStrackVisco; docs/theory_contact_law.md)")
+            .def("frict")
+            .one_of({"frict", "frict_visco"}));
+  s.add(key(p + "restitution_normal", Type::kDouble, "-",
+            "coefficient of normal restitution e_n of a binary collision (contact_law "
+            "frict_visco; 1: no dashpot); must stay 1 with contact_law frict")
+            .def("1")
+            .gt(0)
+            .le(1));
   s.add(key(p + "consolidation_tol", Type::kDouble, "-",
             "relative stress tolerance of the initial consolidation to RveInit's stress")
             .def("1e-3")

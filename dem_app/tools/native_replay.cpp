@@ -1,12 +1,13 @@
 // native_replay: one native RVE driven by a dF sequence from a file, outside MPI, for the
 // side-by-side comparison with YADE (tests/integration/native_vs_yade.sh) and benchmarks.
 //   native_replay --packing FILE.native.txt --df FILE [--ns N] [--damping D] [--repeat R]
-//                 [--resident K]
+//                 [--resident K] [--restitution E]
 // FILE: one dF per line (9 numbers, row-major). Prints "init" and "step <n>" lines with the
 // 9 stress components (symmetrised, 17 digits) and the contact count; with --repeat R the
 // sequence is applied R times and the last lines report particle-steps per second and the
 // binary state's size and encode/decode times; --resident K reports the RSS growth per RVE
-// with K resident RVEs instead.
+// with K resident RVEs instead. --restitution E: the frict_visco law with e_n = E
+// (coupling.native.contact_law frict_visco, restitution_normal E); default the frict law.
 #include <Eigen/Core>
 #include <chrono>
 #include <cstdio>
@@ -53,6 +54,8 @@ int main(int argc, char** argv) {
       repeat = std::stol(v);
     } else if (k == "--resident") {
       resident = std::stol(v);
+    } else if (k == "--restitution") {
+      p.law = mpmdem::dem::native::frict_visco_law(std::stod(v));
     } else {
       std::cerr << "native_replay: unknown option " << k << "\n";
       return 2;

@@ -138,3 +138,45 @@ TEST(CouplingRules, ConsolidationCacheIsAFolderAndNativeOnly) {
   EXPECT_EQ(coupling_error("  backend: yade\n  yade:\n    consolidation_cache: \"\"\n"), "");
   fs::remove_all(dir);
 }
+
+TEST(CouplingRules, ContactLawAndRestitution) {
+  for (const std::string b : {"native", "yade"}) {
+    SCOPED_TRACE(b);
+    const std::string head = "  backend: " + b + "\n  " + b + ":\n";
+    EXPECT_EQ(coupling_error(head + "    contact_law: frict\n"), "");
+    EXPECT_EQ(coupling_error(head + "    contact_law: frict_visco\n    restitution_normal: 0.5\n"),
+              "");
+    // e_n without the dashpot's law: refused naming key, value and file.
+    int line = 0;
+    const std::string e = coupling_error(head + "    restitution_normal: 0.5\n", &line);
+    EXPECT_CONTAINS(e, "coupling." + b + ".restitution_normal 0.5 is given but coupling." + b +
+                           ".contact_law is frict");
+    EXPECT_CONTAINS(e, "c.yaml");
+    EXPECT_EQ(line, 5);
+    // Unknown law, and e_n outside (0, 1].
+    EXPECT_CONTAINS(coupling_error(head + "    contact_law: visc_el\n"), "visc_el");
+    EXPECT_CONTAINS(coupling_error(head + "    contact_law: visc_el\n"),
+                    "coupling." + b + ".contact_law");
+    for (const char* bad : {"0", "-0.5", "1.5"}) {
+      const std::string msg = coupling_error(
+          head + "    contact_law: frict_visco\n    restitution_normal: " + bad + "\n");
+      EXPECT_CONTAINS(msg, "coupling." + b + ".restitution_normal");
+      EXPECT_CONTAINS(msg, bad);
+    }
+  }
+  // The law the keys give.
+  const Config cfg = Config::from_string(
+      "config_version: 1\ncoupling:\n  backend: native\n  native:\n    contact_law: "
+      "frict_visco\n    restitution_normal: 0.8\n",
+      mpmdem::coupling_schema(), "c.yaml", "coupling");
+  const auto law = mpmdem::contact_law(cfg, "native");
+  EXPECT_TRUE(law.viscous());
+  EXPECT_EQ(law.restitution_n, 0.8);
+  EXPECT_EQ(law.beta_n, mpmdem::dem::native::restitution_damping_ratio(0.8));
+  // cuda has the frict law only.
+  const std::string cuda = coupling_error(
+      "  backend: cuda\n  native:\n    contact_law: frict_visco\n    restitution_normal: 0.5\n");
+  EXPECT_CONTAINS(cuda,
+                  "coupling.native.contact_law frict_visco is not available with backend "
+                  "cuda");
+}

@@ -219,41 +219,48 @@ TEST(NativeBackend, AlternatingIncrementsAtTwoSubstepsKeepTheRateBounded) {
   EXPECT_LE(max_rate, 3.0 * rate * (1 + 1e-4));
 }
 
+// Both contact laws: frict_visco's states (NAT6, with each contact's dashpot force) too.
 TEST(NativeBackend, CheckpointRoundTripAndMigrationAreBitwise) {
-  RveReply init[2];
-  auto a = make(0, 2, kP0, init);
-  std::mt19937_64 rng(7);
-  RveReply ra[2], rb[2];
-  for (int n = 1; n <= 3; ++n) step(*a, n, {random_dF(rng), random_dF(rng)}, ra);
-  const auto dir =
-      std::filesystem::temp_directory_path() / ("mpmdem_native_ckpt_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  a->checkpoint(dir);
-  // Restart: a new backend restored from the files continues bit for bit.
-  auto b = std::make_unique<dem::NativeBackend>(params());
-  dem::BackendContext ctx;
-  ctx.n_rve = 2;
-  ctx.outputs = protocol::kKnownOutputs;
-  b->setup(ctx);
-  b->restore(dir);
-  std::filesystem::remove_all(dir);
-  EXPECT_EQ(dem::native::encode(a->rve(0)), dem::native::encode(b->rve(0)));
-  // Migration: RVE 1 moves from `a` to a third backend `c` that owned none.
-  auto c = make(2, 0, kP0, nullptr);
-  std::map<std::uint64_t, std::string> incoming;
-  incoming[1] = a->export_rve(1);
-  c->adopt(1, 1, incoming);
-  for (int n = 4; n <= 9; ++n) {
-    std::vector<RowMajor3> dF = {random_dF(rng), random_dF(rng)};
-    step(*a, n, dF, ra);
-    step(*b, n, dF, rb);
-    RveReply rcs[1];
-    step(*c, n, {dF[1]}, rcs);  // c owns RVE 1
-    for (int k = 0; k < 2; ++k) EXPECT_TRUE(same_bits(ra[k], rb[k])) << "restart, RVE " << k;
-    EXPECT_TRUE(same_bits(ra[1], rcs[0])) << "migrated RVE, step " << n;
-    EXPECT_NE(ra[0].stress[0], 0.0);
+  for (const bool visco : {false, true}) {
+    SCOPED_TRACE(visco ? "frict_visco" : "frict");
+    dem::NativeParams p = params();
+    if (visco) p.law = dem::native::frict_visco_law(0.5);
+    RveReply init[2];
+    auto a = make(0, 2, kP0, init, p);
+    std::mt19937_64 rng(7);
+    RveReply ra[2], rb[2];
+    for (int n = 1; n <= 3; ++n) step(*a, n, {random_dF(rng), random_dF(rng)}, ra);
+    const auto dir = std::filesystem::temp_directory_path() /
+                     ("mpmdem_native_ckpt_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    a->checkpoint(dir);
+    // Restart: a new backend restored from the files continues bit for bit.
+    auto b = std::make_unique<dem::NativeBackend>(p);
+    dem::BackendContext ctx;
+    ctx.n_rve = 2;
+    ctx.outputs = protocol::kKnownOutputs;
+    b->setup(ctx);
+    b->restore(dir);
+    std::filesystem::remove_all(dir);
+    EXPECT_EQ(dem::native::encode(a->rve(0)), dem::native::encode(b->rve(0)));
+    // Migration: RVE 1 moves from `a` to a third backend `c` that owned none.
+    auto c = make(2, 0, kP0, nullptr, p);
+    std::map<std::uint64_t, std::string> incoming;
+    incoming[1] = a->export_rve(1);
+    c->adopt(1, 1, incoming);
+    for (int n = 4; n <= 9; ++n) {
+      std::vector<RowMajor3> dF = {random_dF(rng), random_dF(rng)};
+      step(*a, n, dF, ra);
+      step(*b, n, dF, rb);
+      RveReply rcs[1];
+      step(*c, n, {dF[1]}, rcs);  // c owns RVE 1
+      for (int k = 0; k < 2; ++k) EXPECT_TRUE(same_bits(ra[k], rb[k])) << "restart, RVE " << k;
+      EXPECT_TRUE(same_bits(ra[1], rcs[0])) << "migrated RVE, step " << n;
+      EXPECT_NE(ra[0].stress[0], 0.0);
+    }
+    EXPECT_EQ(dem::native::encode(a->rve(1)), dem::native::encode(c->rve(0)));
+    EXPECT_EQ(dem::native::encode(a->rve(0)).substr(0, 8), visco ? "MPMDNAT6" : "MPMDNAT5");
   }
-  EXPECT_EQ(dem::native::encode(a->rve(1)), dem::native::encode(c->rve(0)));
 }
 
 // OpenMP over a rank's RVEs: each RVE is advanced by one thread, so two threads give the

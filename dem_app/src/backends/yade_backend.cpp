@@ -86,6 +86,11 @@ class YadeBackend final : public RveBackend {
       << ", \"consolidation_tol\": " << cfg.number("coupling.yade.consolidation_tol")
       << ", \"consolidation_unbalanced\": " << cfg.number("coupling.yade.consolidation_unbalanced")
       << ", \"consolidation_max_steps\": " << cfg.integer("coupling.yade.consolidation_max_steps");
+    // The law, and FrictViscoMat.betan as the native backend computes it (17 digits: the
+    // same double on both sides).
+    const native::ContactLaw law = contact_law(cfg, "yade");
+    p << ", \"contact_law\": " << json_string(native::contact_law_name(law.kind))
+      << ", \"restitution_normal\": " << law.restitution_n << ", \"beta_n\": " << law.beta_n;
     params_ = p.str();
   }
 

@@ -193,6 +193,11 @@ void CudaBackend::adopt(std::uint64_t first_rve, std::uint64_t n_rve,
 CudaParams cuda_params(const config::Config& cfg) {
   CudaParams p;
   p.native = native_params(cfg);
+  if (p.native.law.viscous()) {  // also refused by check_coupling, with the file named
+    throw std::runtime_error(
+        "coupling.native.contact_law frict_visco: the cuda backend has the frict law only; "
+        "use backend native or yade");
+  }
   p.on_gpu = cfg.string("coupling.cuda.device") == "gpu";
   p.gpu = static_cast<int>(cfg.integer("coupling.cuda.gpu"));
   p.threads_per_block = static_cast<int>(cfg.integer("coupling.cuda.threads_per_block"));

@@ -11,8 +11,12 @@ namespace mpmdem::dem::native {
 namespace {
 
 // NAT5: sphere and contact vector fields xyz split (one array per component). NAT4
-// (interleaved) is still read.
+// (interleaved) is still read. NAT6: NAT5 with the contact law after the contacts'
+// penetrations (kind, e_n, beta_n) and the contacts' normal_viscous: written for the
+// frict_visco law only, so that the states (and checkpoints, consolidation keys) of frict
+// RVEs keep their NAT5 bytes.
 constexpr char kMagic[8] = {'M', 'P', 'M', 'D', 'N', 'A', 'T', '5'};
+constexpr char kMagicNat6[8] = {'M', 'P', 'M', 'D', 'N', 'A', 'T', '6'};
 constexpr char kMagicNat4[8] = {'M', 'P', 'M', 'D', 'N', 'A', 'T', '4'};
 constexpr char kCheckpointMagic[8] = {'M', 'P', 'M', 'D', 'N', 'C', 'K', '1'};
 
@@ -98,8 +102,9 @@ void cell_fields(Stream& s, Cell& c) {
 
 std::string encode(const RveRecord& r) {
   Out o;
-  for (char c : kMagic) o.put(c);
   const RveState& s = r.state;
+  const bool nat6 = s.law.viscous();
+  for (char c : nat6 ? kMagicNat6 : kMagic) o.put(c);
   cell_fields(o, s.cell);
   o.put(s.material);
   o.put(s.dt);
@@ -112,6 +117,10 @@ std::string encode(const RveRecord& r) {
   o.put_vector(c.id1), o.put_vector(c.id2);
   o.put_split(c.cell), o.put_split(c.normal), o.put_split(c.shear_force);
   o.put_vector(c.penetration);
+  if (nat6) {
+    o.put(s.law.kind), o.put(s.law.restitution_n), o.put(s.law.beta_n);
+    o.put_vector(c.normal_viscous);
+  }
   o.put(r.point);
   o.put(r.p0);
   o.put(r.tilings);
@@ -125,7 +134,8 @@ RveRecord decode(const std::string& blob) {
   char magic[8];
   for (char& c : magic) in.get(c);
   const bool nat4 = std::memcmp(magic, kMagicNat4, sizeof magic) == 0;
-  if (!nat4 && std::memcmp(magic, kMagic, sizeof magic) != 0) In::fail();
+  const bool nat6 = std::memcmp(magic, kMagicNat6, sizeof magic) == 0;
+  if (!nat4 && !nat6 && std::memcmp(magic, kMagic, sizeof magic) != 0) In::fail();
   RveRecord r;
   RveState& s = r.state;
   cell_fields(in, s.cell);
@@ -140,6 +150,13 @@ RveRecord decode(const std::string& blob) {
   in.get_vector(c.id1), in.get_vector(c.id2);
   in.get_split(c.cell, nat4), in.get_split(c.normal, nat4), in.get_split(c.shear_force, nat4);
   in.get_vector(c.penetration);
+  if (nat6) {
+    ContactLaw law;
+    in.get(law.kind), in.get(law.restitution_n), in.get(law.beta_n);
+    if (!law.viscous()) In::fail();
+    set_contact_law(s, law);
+    in.get_vector(c.normal_viscous);
+  }
   in.get(r.point);
   in.get(r.p0);
   in.get(r.tilings);
@@ -152,7 +169,7 @@ RveRecord decode(const std::string& blob) {
                           sp.vel.size() == n && sp.ang_vel.size() == n && sp.ori.size() == n &&
                           sp.ref_ori.size() == n && c.id2.size() == m && c.cell.size() == m &&
                           c.normal.size() == m && c.shear_force.size() == m &&
-                          c.penetration.size() == m;
+                          c.penetration.size() == m && (!c.viscous || c.normal_viscous.size() == m);
   if (!consistent || !in.done()) In::fail();
   for (std::size_t k = 0; k < m; ++k) {
     if (c.id1[k] >= n || c.id2[k] >= n) In::fail();

@@ -38,8 +38,11 @@ StateHash state_hash(const RveState& s) {
   return {fnv1a64(blob), blob.size()};
 }
 
-std::uint64_t code_fingerprint() {
-  static const std::uint64_t fingerprint = [] {
+namespace {
+
+// The bits of the fixed consolidation run of code_fingerprint with the given contact law.
+std::uint64_t fingerprint_run(const ContactLaw& law) {
+  {
     // 24 spheres of a loose cloud squeezed by 15 % (so that neighbours overlap), servoed for
     // 600 steps towards an anisotropic stress: contacts made and lost, sliding, damping and
     // the servo's rate law all act on the bits.
@@ -49,6 +52,7 @@ std::uint64_t code_fingerprint() {
     c.material.friction_angle = std::atan(0.5);
     c.seed = 36;
     RveState s = build_cloud(c);
+    set_contact_law(s, law);
     s.cell.hsize *= 0.85;
     for (std::size_t i = 0; i < s.spheres.size(); ++i)
       s.spheres.pos.set(i, 0.85 * s.spheres.pos[i]);
@@ -60,12 +64,24 @@ std::uint64_t code_fingerprint() {
     consolidate(s, nl, Eigen::Vector3d(-2e5, -3e5, -1e5), p);
     finish_preparation(s, nl, p.damping);
     return state_hash(s).hash;
-  }();
+  }
+}
+
+}  // namespace
+
+std::uint64_t code_fingerprint() {
+  static const std::uint64_t fingerprint = fingerprint_run(ContactLaw{});
+  return fingerprint;
+}
+
+std::uint64_t visco_fingerprint() {
+  static const std::uint64_t fingerprint = fingerprint_run(frict_visco_law(0.5));
   return fingerprint;
 }
 
 ConsolidationKey consolidation_key(const StateHash& packing, const double (&stress)[9],
-                                   const ConsolidationParams& p, double verlet_skin) {
+                                   const ConsolidationParams& p, double verlet_skin,
+                                   const ContactLaw& law) {
   ConsolidationKey k;
   std::string& b = k.bytes;
   b = "mpmdem-consolidation-key";
@@ -82,6 +98,13 @@ ConsolidationKey consolidation_key(const StateHash& packing, const double (&stre
   put(b, p.max_strain_rate);
   put(b, p.damping);
   put(b, verlet_skin);
+  // The frict_visco law (also in the packing's hash: its NAT6 state) and the bits of its own
+  // fixed run; nothing for frict, whose keys are those of before the law was a choice.
+  if (law.viscous()) {
+    b += "frict_visco";
+    put(b, law.beta_n);
+    put(b, visco_fingerprint());
+  }
   return k;
 }
 

@@ -11,6 +11,7 @@
 //    every sphere and contact) and its size, so a packing is known by its content, not its
 //    name (a rebuilt library with the same names gives other keys);
 //  * the target stress, its 9 components bit for bit (the servo reads the diagonal);
+//  * the contact law when it is not frict (frict_visco: its beta_n and visco_fingerprint);
 //  * the parameters: stress and unbalanced-force tolerances, step limit, strain-rate bound,
 //    damping and Verlet skin (coupling.native.consolidation_*, damping, verlet_skin).
 // consolidation_on_failure is not part of it: a state kept unconverged (warn) is stored as
@@ -46,8 +47,11 @@ StateHash state_hash(const RveState& s);
 // The bits of this build's consolidation of a fixed 24-sphere cloud (computed once per
 // process, a few milliseconds).
 std::uint64_t code_fingerprint();
+// The same run with the frict_visco law (e_n 0.5): part of the keys of frict_visco RVEs.
+std::uint64_t visco_fingerprint();
 
 ConsolidationKey consolidation_key(const StateHash& packing, const double (&stress)[9],
-                                   const ConsolidationParams& p, double verlet_skin);
+                                   const ConsolidationParams& p, double verlet_skin,
+                                   const ContactLaw& law = ContactLaw{});
 
 }  // namespace mpmdem::dem::native

@@ -12,14 +12,19 @@ namespace {
 
 // The arrays one call reads and writes (restrict: the vectoriser needs no alias checks).
 // Sphere and contact vector fields are xyz split (x0, x1, x2: the components of the position).
-MPMDEM_SIMD_CLONES void contact_loop(
+// kVisco: the frict_visco law (contact_law.hpp), which also reads the masses and writes the
+// dashpot's force c_n (n . v) to visc_out; without it both are unused (nullptr) and the loop
+// is the frict law's, operation for operation.
+template <bool kVisco>
+MPMDEM_ALWAYS_INLINE void contact_body(
     std::size_t m, const LawConstants& kc, const StagedContacts* __restrict st,
     double* __restrict nx, double* __restrict ny, double* __restrict nz, double* __restrict sx,
     double* __restrict sy, double* __restrict sz, double* __restrict pen_out,
     const double* __restrict x0, const double* __restrict x1, const double* __restrict x2,
     const double* __restrict v0, const double* __restrict v1, const double* __restrict v2,
     const double* __restrict w0, const double* __restrict w1_, const double* __restrict w2_,
-    const double* __restrict rad, ContactOut* __restrict out) {
+    const double* __restrict rad, const double* __restrict mass, double* __restrict visc_out,
+    ContactOut* __restrict out) {
   const double* const pos[3] = {x0, x1, x2};
   const double* const vel[3] = {v0, v1, v2};
   const double* const ang[3] = {w0, w1_, w2_};
@@ -78,7 +83,17 @@ MPMDEM_SIMD_CLONES void contact_loop(
     for (int q = 0; q < 3; ++q) fs[q] -= t[q];
     for (int q = 0; q < 3; ++q) fs[q] -= ks * inc[q];
     const double fn_mag = kn * std::max(pen, 0.0);
-    const double fn[3] = {fn_mag * n[0], fn_mag * n[1], fn_mag * n[2]};
+    double fn[3] = {fn_mag * n[0], fn_mag * n[1], fn_mag * n[2]};
+    if constexpr (kVisco) {
+      // Law2_ScGeom_FrictViscoPhys_CundallStrackVisco: normalForce -= c_n (n . v_incident) n
+      // with Ip2_FrictViscoMat_FrictViscoMat_FrictViscoPhys's c_n = 2 sqrt(m* kn) beta_n.
+      // v_incident's normal part is rn (its rotational terms are normal to n).
+      const double m1 = mass[a], m2 = mass[b];
+      const double mbar = m1 * m2 / (m1 + m2);
+      const double cn = 2. * std::sqrt(mbar * kn) * k.beta_n;
+      for (int q = 0; q < 3; ++q) fn[q] -= cn * (rn * n[q]);
+      visc_out[j] = cn * rn;
+    }
     const double max_fs = (fn[0] * fn[0] + fn[1] * fn[1] + fn[2] * fn[2]) * k.tan2;
     const double fs2 = fs[0] * fs[0] + fs[1] * fs[1] + fs[2] * fs[2];
     // Coulomb: fs *= sqrt(max_fs) / |fs| if fs2 > max_fs. The ratio is below 1 exactly then
@@ -102,6 +117,26 @@ MPMDEM_SIMD_CLONES void contact_loop(
     }
   }
 }
+
+#define MPMDEM_CONTACT_ARGS                                                                       \
+  std::size_t m, const LawConstants &kc, const StagedContacts *__restrict st,                     \
+      double *__restrict nx, double *__restrict ny, double *__restrict nz, double *__restrict sx, \
+      double *__restrict sy, double *__restrict sz, double *__restrict pen_out,                   \
+      const double *__restrict x0, const double *__restrict x1, const double *__restrict x2,      \
+      const double *__restrict v0, const double *__restrict v1, const double *__restrict v2,      \
+      const double *__restrict w0, const double *__restrict w1_, const double *__restrict w2_,    \
+      const double *__restrict rad
+MPMDEM_SIMD_CLONES void contact_loop(MPMDEM_CONTACT_ARGS, ContactOut* __restrict out) {
+  contact_body<false>(m, kc, st, nx, ny, nz, sx, sy, sz, pen_out, x0, x1, x2, v0, v1, v2, w0, w1_,
+                      w2_, rad, nullptr, nullptr, out);
+}
+MPMDEM_SIMD_CLONES void contact_loop_visco(MPMDEM_CONTACT_ARGS, const double* __restrict mass,
+                                           double* __restrict visc_out,
+                                           ContactOut* __restrict out) {
+  contact_body<true>(m, kc, st, nx, ny, nz, sx, sy, sz, pen_out, x0, x1, x2, v0, v1, v2, w0, w1_,
+                     w2_, rad, mass, visc_out, out);
+}
+#undef MPMDEM_CONTACT_ARGS
 
 }  // namespace
 
@@ -134,6 +169,7 @@ LawConstants law_constants(const RveState& s) {
   k.ks_kn = s.material.ks_kn;
   const double tan_phi = std::tan(s.material.friction_angle);
   k.tan2 = tan_phi * tan_phi;
+  k.beta_n = s.law.viscous() ? s.law.beta_n : 0.0;
   for (int a = 0; a < 3; ++a) {
     for (int b = 0; b < 3; ++b) {
       k.h[a][b] = s.cell.hsize(a, b);
@@ -154,6 +190,16 @@ void update_contacts(RveState& s, const LawConstants& k, std::size_t k0, std::si
   auto& sp = s.spheres;
   StagedContacts st;
   stage_contacts(s, k0, m, st);
+  if (s.law.viscous()) {
+    contact_loop_visco(
+        m, k, &st, c.normal.c[0].data() + k0, c.normal.c[1].data() + k0, c.normal.c[2].data() + k0,
+        c.shear_force.c[0].data() + k0, c.shear_force.c[1].data() + k0,
+        c.shear_force.c[2].data() + k0, c.penetration.data() + k0, sp.pos.c[0].data(),
+        sp.pos.c[1].data(), sp.pos.c[2].data(), sp.vel.c[0].data(), sp.vel.c[1].data(),
+        sp.vel.c[2].data(), sp.ang_vel.c[0].data(), sp.ang_vel.c[1].data(), sp.ang_vel.c[2].data(),
+        sp.radius.data(), sp.mass.data(), c.normal_viscous.data() + k0, &out);
+    return;
+  }
   contact_loop(m, k, &st, c.normal.c[0].data() + k0, c.normal.c[1].data() + k0,
                c.normal.c[2].data() + k0, c.shear_force.c[0].data() + k0,
                c.shear_force.c[1].data() + k0, c.shear_force.c[2].data() + k0,

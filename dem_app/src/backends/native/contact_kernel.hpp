@@ -37,12 +37,14 @@ void stage_contacts(const RveState& s, std::size_t k0, std::size_t m, StagedCont
 // What every contact of a step shares.
 struct LawConstants {
   double dt, half_dt, young, ks_kn, tan2;  // tan2: tan(friction angle)^2
+  double beta_n;                           // frict_visco's FrictViscoMat.betan (else 0)
   double h[3][3];                          // cell hsize (image shift H c)
   double lh[3][3];                         // velGrad * hsize before the step (image velocity)
 };
 
 LawConstants law_constants(const RveState& s);
 
+// The law is the RVE's (s.law, contact_law.hpp); frict_visco also writes normal_viscous.
 // Updates contacts [k0, k0 + m), m <= kContactChunk: normal, penetration and shear force in
 // place; out[j] for contact k0 + j. A new contact is one with zero normal and shear force
 // (then the rotation terms vanish, as ScGeom's isNew branch). rec: the spheres' records of

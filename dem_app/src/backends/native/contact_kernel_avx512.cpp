@@ -4,10 +4,11 @@
 // as they are written there), 8 contacts per iteration, the last ones masked. What differs
 // is how the spheres' fields reach the registers: instead of 20 gathers per 8 contacts, each
 // sphere's position, radius, velocity and angular velocity are read from a packed record
-// of 12 doubles (three 32-byte rows: x y z r | vx vy vz 0 | wx wy wz 0, built at the start of
-// compute_forces by pack_sphere_records) and 8 rows are transposed into 4 vectors (on this
-// AMD CPU ~3x cheaper than the gathers). The stress and stiffness terms of measures.cpp go
-// the same way (stress_terms_records: its contributions and add_to_lanes, the same bits).
+// of 12 doubles (three 32-byte rows: x y z r | vx vy vz m | wx wy wz 0, built at the start of
+// compute_forces by pack_sphere_records; m the mass for the frict_visco law, else 0) and 8 rows are
+// transposed into 4 vectors (on this AMD CPU ~3x cheaper than the gathers). The stress and
+// stiffness terms of measures.cpp go the same way (stress_terms_records: its contributions and
+// add_to_lanes, the same bits).
 #include <immintrin.h>
 
 #include <cstdint>
@@ -82,12 +83,15 @@ double* sphere_buffer(std::size_t n) {
   return rec + (4 - (reinterpret_cast<std::uintptr_t>(rec) / sizeof(double)) % 4) % 4;
 }
 
-// all_rows false: the first row (position, radius) only.
-MPMDEM_AVX512 void pack(std::size_t n, const Spheres& sp, double* __restrict rec, bool all_rows) {
+// all_rows false: the first row (position, radius) only; with_mass: the masses in the second
+// row's last slot (else 0).
+MPMDEM_AVX512 void pack(std::size_t n, const Spheres& sp, double* __restrict rec, bool all_rows,
+                        bool with_mass = false) {
   const double* x[3] = {sp.pos.c[0].data(), sp.pos.c[1].data(), sp.pos.c[2].data()};
   const double* v[3] = {sp.vel.c[0].data(), sp.vel.c[1].data(), sp.vel.c[2].data()};
   const double* w[3] = {sp.ang_vel.c[0].data(), sp.ang_vel.c[1].data(), sp.ang_vel.c[2].data()};
   const double* rad = sp.radius.data();
+  const double* mass = sp.mass.data();
   std::size_t i = 0;
   const __m512d zero = _mm512_setzero_pd();
   for (; i + 8 <= n; i += 8) {
@@ -96,7 +100,7 @@ MPMDEM_AVX512 void pack(std::size_t n, const Spheres& sp, double* __restrict rec
                _mm512_loadu_pd(rad + i));
     if (!all_rows) continue;
     store_rows(r + 4, _mm512_loadu_pd(v[0] + i), _mm512_loadu_pd(v[1] + i),
-               _mm512_loadu_pd(v[2] + i), zero);
+               _mm512_loadu_pd(v[2] + i), with_mass ? _mm512_loadu_pd(mass + i) : zero);
     store_rows(r + 8, _mm512_loadu_pd(w[0] + i), _mm512_loadu_pd(w[1] + i),
                _mm512_loadu_pd(w[2] + i), zero);
   }
@@ -106,7 +110,7 @@ MPMDEM_AVX512 void pack(std::size_t n, const Spheres& sp, double* __restrict rec
     r[3] = rad[i];
     if (!all_rows) continue;
     for (int q = 0; q < 3; ++q) r[4 + q] = v[q][i], r[8 + q] = w[q][i];
-    r[7] = 0, r[11] = 0;
+    r[7] = with_mass ? mass[i] : 0, r[11] = 0;
   }
 }
 
@@ -143,24 +147,28 @@ MPMDEM_AVX512 inline __attribute__((always_inline)) __mmask8 chunk(
 }
 
 // Contacts [0, m) of the arrays (offset to the chunk by the caller); see contact_loop.
+// kVisco: the frict_visco law (contact_body<true>: the masses from the records, the dashpot's
+// c_n (n . v) to visc_out); without it visc_out is unused (nullptr).
+template <bool kVisco>
 MPMDEM_AVX512 void loop(std::size_t m, const LawConstants& kc, const double* __restrict rec,
                         const std::uint32_t* __restrict id1, const std::uint32_t* __restrict id2,
                         const std::int16_t* const* cell, double* const* nrm, double* const* shr,
-                        double* __restrict pen_out, ContactOut* __restrict out) {
+                        double* __restrict pen_out, double* __restrict visc_out,
+                        ContactOut* __restrict out) {
   const LawConstants k = kc;
   for (std::size_t j = 0; j < m; j += 8) {
     const double* pa[8];
     const double* pb[8];
     v8d ci[3];
     const __mmask8 mask = chunk(j, m, rec, id1, id2, cell, pa, pb, ci);
-    v8d xa[3], xb[3], va[3], vb[3], w1[3], w2[3], r1, r2, unused;
+    v8d xa[3], xb[3], va[3], vb[3], w1[3], w2[3], r1, r2, m1, m2, unused;
     load_rows(pa, xa[0], xa[1], xa[2], r1);
     load_rows(pb, xb[0], xb[1], xb[2], r2);
     const double* qa[8];
     const double* qb[8];
     for (int l = 0; l < 8; ++l) qa[l] = pa[l] + 4, qb[l] = pb[l] + 4;
-    load_rows(qa, va[0], va[1], va[2], unused);
-    load_rows(qb, vb[0], vb[1], vb[2], unused);
+    load_rows(qa, va[0], va[1], va[2], m1);
+    load_rows(qb, vb[0], vb[1], vb[2], m2);
     for (int l = 0; l < 8; ++l) qa[l] = pa[l] + 8, qb[l] = pb[l] + 8;
     load_rows(qa, w1[0], w1[1], w1[2], unused);
     load_rows(qb, w2[0], w2[1], w2[2], unused);
@@ -207,7 +215,13 @@ MPMDEM_AVX512 void loop(std::size_t m, const LawConstants& kc, const double* __r
     // std::max(pen, 0.0): pen < 0 ? 0 : pen (a NaN kept)
     const v8d zero = {0, 0, 0, 0, 0, 0, 0, 0}, one = zero + 1.0;
     const v8d fn_mag = kn * (pen < zero ? zero : pen);
-    const v8d fn[3] = {fn_mag * n[0], fn_mag * n[1], fn_mag * n[2]};
+    v8d fn[3] = {fn_mag * n[0], fn_mag * n[1], fn_mag * n[2]};
+    if constexpr (kVisco) {  // contact_body's dashpot, the same expressions
+      const v8d mbar = m1 * m2 / (m1 + m2);
+      const v8d cn = 2. * vsqrt(mbar * kn) * k.beta_n;
+      for (int q = 0; q < 3; ++q) fn[q] -= cn * (rn * n[q]);
+      _mm512_mask_storeu_pd(visc_out + j, mask, (__m512d)(cn * rn));
+    }
     const v8d max_fs = (fn[0] * fn[0] + fn[1] * fn[1] + fn[2] * fn[2]) * k.tan2;
     const v8d fs2 = fs[0] * fs[0] + fs[1] * fs[1] + fs[2] * fs[2];
     // Coulomb (contact_loop's select on the ratio): the ratio is below 1 or exactly 1 where
@@ -236,12 +250,15 @@ MPMDEM_AVX512 void loop(std::size_t m, const LawConstants& kc, const double* __r
 
 // measures.cpp's contributions (the same expressions) of contacts [0, m), added to
 // lanes[t][k mod 8] in contact order: for a group of 8 contacts, which starts at a multiple
-// of 8, one vector addition per term (masked for the last group).
+// of 8, one vector addition per term (masked for the last group). kVisco: with the dashpot's
+// part visc of the normal force (contributions_body<true>).
+template <bool kVisco>
 MPMDEM_AVX512 void stress_loop(std::size_t m, const double (&h)[3][3], double young, double ks_kn,
                                const double* __restrict rec, const std::uint32_t* __restrict id1,
                                const std::uint32_t* __restrict id2, const std::int16_t* const* cell,
                                const double* const* nrm, const double* const* shr,
-                               const double* __restrict pen, double (&lanes)[15][8]) {
+                               const double* __restrict pen, const double* __restrict visc,
+                               double (&lanes)[15][8]) {
   v8d acc[15];
   for (int t = 0; t < 15; ++t) acc[t] = (v8d)_mm512_loadu_pd(lanes[t]);
   const v8d zero = {};
@@ -258,6 +275,8 @@ MPMDEM_AVX512 void stress_loop(std::size_t m, const double (&h)[3][3], double yo
       fs[q] = (v8d)_mm512_maskz_loadu_pd(mask, shr[q] + j);
     }
     const v8d pn = (v8d)_mm512_maskz_loadu_pd(mask, pen + j);
+    v8d vn = zero;
+    if constexpr (kVisco) vn = (v8d)_mm512_maskz_loadu_pd(mask, visc + j);
     for (int q = 0; q < 3; ++q) {
       l[q] = (xb[q] + (h[q][0] * ci[0] + h[q][1] * ci[1] + h[q][2] * ci[2])) - xa[q];
     }
@@ -266,7 +285,9 @@ MPMDEM_AVX512 void stress_loop(std::size_t m, const double (&h)[3][3], double yo
     const v8d ks = ks_kn * kn;
     const v8d fn_mag = kn * (pn < zero ? zero : pn);
     for (int i = 0; i < 3; ++i) {
-      const v8d f = fn_mag * n[i] + fs[i];
+      v8d fni = fn_mag * n[i];
+      if constexpr (kVisco) fni -= vn * n[i];
+      const v8d f = fni + fs[i];
       for (int q = 0; q < 3; ++q) term[3 * i + q] = f * -l[q];
     }
     const v8d l2 = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
@@ -297,15 +318,21 @@ bool stress_terms_records(const RveState& s, const double (&h)[3][3], double (&l
   const double* nrm[3] = {c.normal.c[0].data(), c.normal.c[1].data(), c.normal.c[2].data()};
   const double* shr[3] = {c.shear_force.c[0].data(), c.shear_force.c[1].data(),
                           c.shear_force.c[2].data()};
-  stress_loop(c.size(), h, s.material.young, s.material.ks_kn, rec, c.id1.data(), c.id2.data(),
-              cell, nrm, shr, c.penetration.data(), lanes);
+  if (c.viscous) {
+    stress_loop<true>(c.size(), h, s.material.young, s.material.ks_kn, rec, c.id1.data(),
+                      c.id2.data(), cell, nrm, shr, c.penetration.data(), c.normal_viscous.data(),
+                      lanes);
+  } else {
+    stress_loop<false>(c.size(), h, s.material.young, s.material.ks_kn, rec, c.id1.data(),
+                       c.id2.data(), cell, nrm, shr, c.penetration.data(), nullptr, lanes);
+  }
   return true;
 }
 
 const double* pack_sphere_records(const RveState& s) {
   if (!kHaveAvx512) return nullptr;
   double* rec = sphere_buffer(s.spheres.size());
-  pack(s.spheres.size(), s.spheres, rec, true);
+  pack(s.spheres.size(), s.spheres, rec, true, s.law.viscous());
   return rec;
 }
 
@@ -318,8 +345,13 @@ void update_contacts_records(RveState& s, const LawConstants& k, std::size_t k0,
                     c.normal.c[2].data() + k0};
   double* shr[3] = {c.shear_force.c[0].data() + k0, c.shear_force.c[1].data() + k0,
                     c.shear_force.c[2].data() + k0};
-  loop(m, k, rec, c.id1.data() + k0, c.id2.data() + k0, cell, nrm, shr, c.penetration.data() + k0,
-       &out);
+  if (s.law.viscous()) {
+    loop<true>(m, k, rec, c.id1.data() + k0, c.id2.data() + k0, cell, nrm, shr,
+               c.penetration.data() + k0, c.normal_viscous.data() + k0, &out);
+  } else {
+    loop<false>(m, k, rec, c.id1.data() + k0, c.id2.data() + k0, cell, nrm, shr,
+                c.penetration.data() + k0, nullptr, &out);
+  }
 }
 
 #pragma GCC diagnostic pop

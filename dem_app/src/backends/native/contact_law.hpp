@@ -1,3 +1,4 @@
+// The contact laws of the native RVEs (chosen per scene: coupling.<backend>.contact_law) and
 // Ip2_FrictMat_FrictMat_FrictPhys of YADE's RVEs. The geometry and the law of a step
 // (Ig2_Sphere_Sphere_ScGeom with avoidGranularRatcheting = true, its default,
 // ScGeom::precompute/rotate, Law2_ScGeom_FrictPhys_CundallStrack) are in contact_kernel.
@@ -7,6 +8,8 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+
+#include "backends/native/contact_law_kind.hpp"
 
 namespace mpmdem::dem::native {
 

@@ -24,14 +24,16 @@ struct Contributions {
   double v[kTerms][kChunk];
 };
 
-MPMDEM_SIMD_CLONES void contributions(std::size_t m, const double (&h)[3][3], double young,
-                                      double ks_kn, const StagedContacts* __restrict st,
-                                      const double* __restrict nx, const double* __restrict ny,
-                                      const double* __restrict nz, const double* __restrict sx,
-                                      const double* __restrict sy, const double* __restrict sz,
-                                      const double* __restrict pen, const double* __restrict x0,
-                                      const double* __restrict x1, const double* __restrict x2,
-                                      const double* __restrict rad, Contributions* __restrict out) {
+// kVisco: the frict_visco law's normal force, its dashpot part visc (Contacts::normal_viscous)
+// included; without it visc is unused (nullptr) and the loop is the frict law's.
+template <bool kVisco>
+MPMDEM_ALWAYS_INLINE void contributions_body(
+    std::size_t m, const double (&h)[3][3], double young, double ks_kn,
+    const StagedContacts* __restrict st, const double* __restrict nx, const double* __restrict ny,
+    const double* __restrict nz, const double* __restrict sx, const double* __restrict sy,
+    const double* __restrict sz, const double* __restrict pen, const double* __restrict x0,
+    const double* __restrict x1, const double* __restrict x2, const double* __restrict rad,
+    const double* __restrict visc, Contributions* __restrict out) {
   const double* const pos[3] = {x0, x1, x2};
   for (std::size_t k = 0; k < m; ++k) {
     const std::int64_t a = st->a[k], b = st->b[k];
@@ -48,7 +50,9 @@ MPMDEM_SIMD_CLONES void contributions(std::size_t m, const double (&h)[3][3], do
     const double ks = ks_kn * kn;
     const double fn_mag = kn * std::max(pen[k], 0.0);
     for (int i = 0; i < 3; ++i) {
-      const double f = fn_mag * n[i] + fs[i];
+      double fni = fn_mag * n[i];
+      if constexpr (kVisco) fni -= visc[k] * n[i];
+      const double f = fni + fs[i];
       for (int j = 0; j < 3; ++j) out->v[3 * i + j][k] = f * -l[j];
     }
     const double l2 = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
@@ -63,6 +67,24 @@ MPMDEM_SIMD_CLONES void contributions(std::size_t m, const double (&h)[3][3], do
     }
   }
 }
+
+#define MPMDEM_CONTRIBUTION_ARGS                                                              \
+  std::size_t m, const double(&h)[3][3], double young, double ks_kn,                          \
+      const StagedContacts *__restrict st, const double *__restrict nx,                       \
+      const double *__restrict ny, const double *__restrict nz, const double *__restrict sx,  \
+      const double *__restrict sy, const double *__restrict sz, const double *__restrict pen, \
+      const double *__restrict x0, const double *__restrict x1, const double *__restrict x2,  \
+      const double *__restrict rad
+MPMDEM_SIMD_CLONES void contributions(MPMDEM_CONTRIBUTION_ARGS, Contributions* __restrict out) {
+  contributions_body<false>(m, h, young, ks_kn, st, nx, ny, nz, sx, sy, sz, pen, x0, x1, x2, rad,
+                            nullptr, out);
+}
+MPMDEM_SIMD_CLONES void contributions_visco(MPMDEM_CONTRIBUTION_ARGS, const double* __restrict visc,
+                                            Contributions* __restrict out) {
+  contributions_body<true>(m, h, young, ks_kn, st, nx, ny, nz, sx, sy, sz, pen, x0, x1, x2, rad,
+                           visc, out);
+}
+#undef MPMDEM_CONTRIBUTION_ARGS
 
 // lanes[t][k mod kLanes] += out.v[t][k] for k < m, in the order of k.
 void add_to_lanes(double (&lanes)[kTerms][kLanes], const Contributions& out, std::size_t m) {
@@ -90,6 +112,16 @@ StressStiffness stress_and_stiffness(const RveState& s, bool stiffness) {
   for (std::size_t k0 = 0; !done && k0 < c.size(); k0 += kChunk) {
     const std::size_t m = std::min(kChunk, c.size() - k0);
     stage_contacts(s, k0, m, st);
+    if (c.viscous) {
+      contributions_visco(
+          m, h, s.material.young, s.material.ks_kn, &st, c.normal.c[0].data() + k0,
+          c.normal.c[1].data() + k0, c.normal.c[2].data() + k0, c.shear_force.c[0].data() + k0,
+          c.shear_force.c[1].data() + k0, c.shear_force.c[2].data() + k0, c.penetration.data() + k0,
+          s.spheres.pos.c[0].data(), s.spheres.pos.c[1].data(), s.spheres.pos.c[2].data(),
+          s.spheres.radius.data(), c.normal_viscous.data() + k0, &out);
+      add_to_lanes(lanes, out, m);
+      continue;
+    }
     contributions(m, h, s.material.young, s.material.ks_kn, &st, c.normal.c[0].data() + k0,
                   c.normal.c[1].data() + k0, c.normal.c[2].data() + k0,
                   c.shear_force.c[0].data() + k0, c.shear_force.c[1].data() + k0,
@@ -139,8 +171,8 @@ double elastic_energy(const RveState& s) {
   double e = 0;
   for (std::size_t k = 0; k < c.size(); ++k) {
     const FrictPhys phys = contact_stiffness(s, k);
-    e += 0.5 *
-         (normal_force(s, k).squaredNorm() / phys.kn + c.shear_force[k].squaredNorm() / phys.ks);
+    e += 0.5 * (elastic_normal_force(s, k).squaredNorm() / phys.kn +
+                c.shear_force[k].squaredNorm() / phys.ks);
   }
   return e;
 }

@@ -73,6 +73,7 @@ const NativeBackend::Packing& NativeBackend::packing(const std::string& name) {
     pk.state = native::read_packing(std::filesystem::path(p_.packing_dir) /
                                     (name + native::kPackingExtension));
     pk.state.contacts.sort_by_first();  // YADE's order: the force scatter wants them by sphere
+    native::set_contact_law(pk.state, p_.law);  // frict_visco: part of the hash (NAT6 state)
     pk.hash = native::state_hash(pk.state);
     cached = packing_cache_.emplace(name, std::move(pk)).first;
   }
@@ -86,7 +87,9 @@ native::RveState NativeBackend::cloud(std::uint64_t point) const {
   c.r_max = kTable1RadiusMax;
   c.material.friction_angle = std::atan(0.518);
   c.seed = static_cast<std::uint64_t>(p_.seed) + point;
-  return native::build_cloud(c);
+  native::RveState s = native::build_cloud(c);
+  native::set_contact_law(s, p_.law);
+  return s;
 }
 
 void NativeBackend::initialise(const protocol::RveInit* init, protocol::RveReply* reply) {
@@ -408,6 +411,7 @@ NativeParams native_params(const config::Config& cfg) {
   }
   p.consolidation_cache = cache;
   p.verlet_skin = cfg.number("coupling.native.verlet_skin");
+  p.law = contact_law(cfg, "native");
   return p;
 }
 

@@ -39,6 +39,8 @@ struct NativeParams {
   // none (the RVEs of a rank still share one consolidation per distinct key).
   std::string consolidation_cache;
   double verlet_skin = 0.5;
+  // Contact law of every RVE (coupling.native.contact_law, restitution_normal).
+  native::ContactLaw law;
 };
 
 class NativeBackend final : public RveBackend {

@@ -48,7 +48,8 @@ PreparedSet prepare_rves(const std::vector<PreparationInput>& in, const Consolid
   std::vector<ConsolidationKey> keys;
   std::vector<std::size_t> first;
   for (std::size_t k = 0; k < in.size(); ++k) {
-    ConsolidationKey key = consolidation_key(in[k].start_hash, in[k].stress, p, verlet_skin);
+    ConsolidationKey key =
+        consolidation_key(in[k].start_hash, in[k].stress, p, verlet_skin, in[k].start->law);
     const auto [it, fresh] = index.emplace(std::move(key), keys.size());
     if (fresh) {
       keys.push_back(it->first);

@@ -96,12 +96,13 @@ void Spheres::release_forces() {
 
 std::size_t Contacts::heap_bytes() const {
   return cap(id1) + cap(id2) + cell.capacity_bytes() + normal.capacity_bytes() +
-         shear_force.capacity_bytes() + cap(penetration);
+         shear_force.capacity_bytes() + cap(penetration) + cap(normal_viscous);
 }
 
 void Contacts::fit() {
   const std::size_t n = std::max<std::size_t>(16, size() + size() / 8);
   fit_to(id1, n), fit_to(id2, n), fit_to(penetration, n);
+  if (viscous) fit_to(normal_viscous, n);
   for (int a = 0; a < 3; ++a) {
     fit_to(cell.c[a], n), fit_to(normal.c[a], n), fit_to(shear_force.c[a], n);
   }
@@ -114,6 +115,7 @@ void Contacts::clear() {
   normal.clear();
   shear_force.clear();
   penetration.clear();
+  normal_viscous.clear();
 }
 
 std::size_t Contacts::add(std::uint32_t a, std::uint32_t b, const CellDist& c) {
@@ -124,6 +126,7 @@ std::size_t Contacts::add(std::uint32_t a, std::uint32_t b, const CellDist& c) {
   normal.push_back(Vec3::Zero());
   shear_force.push_back(Vec3::Zero());
   penetration.push_back(0.0);
+  if (viscous) normal_viscous.push_back(0.0);
   return id1.size() - 1;
 }
 
@@ -136,6 +139,7 @@ void Contacts::move(std::size_t from, std::size_t to) {
     shear_force.c[a][to] = shear_force.c[a][from];
   }
   penetration[to] = penetration[from];
+  if (viscous) normal_viscous[to] = normal_viscous[from];
 }
 
 void Contacts::truncate(std::size_t n) {
@@ -145,6 +149,7 @@ void Contacts::truncate(std::size_t n) {
   normal.resize(n);
   shear_force.resize(n);
   penetration.resize(n);
+  if (viscous) normal_viscous.resize(n);
 }
 
 void Contacts::swap_remove(std::size_t k) {
@@ -164,7 +169,22 @@ void Contacts::sift_back(std::size_t q) {
                 v.begin() + static_cast<std::ptrdiff_t>(q + 1));
   };
   rot(id1), rot(id2), rot(penetration);
+  if (viscous) rot(normal_viscous);
   for (int c = 0; c < 3; ++c) rot(cell.c[c]), rot(normal.c[c]), rot(shear_force.c[c]);
+}
+
+void Contacts::set_viscous(bool on) {
+  viscous = on;
+  if (on) {
+    normal_viscous.resize(size(), 0.0);
+  } else {
+    std::vector<double>().swap(normal_viscous);
+  }
+}
+
+void set_contact_law(RveState& s, const ContactLaw& law) {
+  s.law = law;
+  s.contacts.set_viscous(law.viscous());
 }
 
 void Contacts::sort_by_first() {

@@ -91,6 +91,10 @@ struct Contacts {
   Split3<double, Vec3> normal;          // ScGeom::normal (unit, 1 -> 2)
   Split3<double, Vec3> shear_force;     // FrictPhys::shearForce (rotated with the contact)
   std::vector<double> penetration;      // ScGeom::penetrationDepth (last step)
+  // FrictViscoPhys::normalViscous as a signed magnitude along the normal, c_n (n . v) (last
+  // step): kept only when `viscous` (the frict_visco law, set_contact_law); empty otherwise.
+  bool viscous = false;
+  std::vector<double> normal_viscous;
   std::size_t size() const { return id1.size(); }
   void clear();
   // Appends a contact with zero forces; returns its index.
@@ -110,11 +114,14 @@ struct Contacts {
   std::size_t heap_bytes() const;  // allocated capacity of all arrays
   // Capacity = size + 1/8 (at least 16): the arrays grow by 1/8 instead of doubling.
   void fit();
+  // Keep normal_viscous (sized with zeros) or not (released).
+  void set_viscous(bool on);
 };
 
 struct RveState {
   PeriodicCell cell;
   Material material;
+  ContactLaw law;  // set with set_contact_law
   Spheres spheres;
   Contacts contacts;
   double dt = 0;  // DEM time step [s] (YADE: 0.5 PWaveTimeStep, from the packing)
@@ -135,8 +142,20 @@ inline FrictPhys contact_stiffness(const RveState& s, std::size_t k) {
   return f;
 }
 
-// FrictPhys::normalForce of the last step, recomputed exactly as CundallStrack computed it.
+// The law of every contact of s (and the contacts' normal_viscous kept or released with it).
+void set_contact_law(RveState& s, const ContactLaw& law);
+
+// FrictPhys::normalForce of the last step, recomputed exactly as CundallStrack computed it;
+// with frict_visco its dashpot part included (FrictViscoPhys::normalForce).
 inline Vec3 normal_force(const RveState& s, std::size_t k) {
+  const Vec3 n = s.contacts.normal[k];
+  const Vec3 elastic = contact_stiffness(s, k).kn * std::max(s.contacts.penetration[k], 0.0) * n;
+  if (!s.contacts.viscous) return elastic;
+  return elastic - s.contacts.normal_viscous[k] * n;
+}
+
+// Its elastic part kn max(pen, 0) n (the spring's energy).
+inline Vec3 elastic_normal_force(const RveState& s, std::size_t k) {
   return contact_stiffness(s, k).kn * std::max(s.contacts.penetration[k], 0.0) *
          s.contacts.normal[k];
 }

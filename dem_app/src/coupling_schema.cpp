@@ -1,99 +1,18 @@
-// The shared `coupling:` section: connection, requested per-RVE outputs, and the settings of
-// each DEM backend. Declared once; mpm_app's scene schema and dem_app both include it.
+// The `coupling:` section as dem_app reads it: the generic keys of the coupling contract
+// (mpmdem/coupling_keys.hpp) and the section of each DEM backend.
 #include "coupling_schema.hpp"
 
 #include "cuda_schema.hpp"
-#include "mpmdem/protocol.hpp"
+#include "elastic_schema.hpp"
+#include "mpmdem/coupling_keys.hpp"
 #include "native_schema.hpp"
 #include "yade_schema.hpp"
 
 namespace mpmdem {
 
-using config::key;
-using config::Type;
-
-namespace {
-// Output names in the order of their protocol::OutputBits.
-const char* const kOutputNames[] = {"rotation", "porosity", "coordination", "unbalanced_force"};
-static_assert(sizeof(kOutputNames) / sizeof(kOutputNames[0]) == 4);
-}  // namespace
-
 void add_coupling_keys(config::Schema& s) {
-  s.add(key("coupling", Type::kMap, "",
-            "settings shared by mpm_app and dem_app (needed by constitutive.model remote); "
-            "both programs hash this section, defaults filled in, and refuse to couple when "
-            "the hashes differ"));
-  s.add(key("coupling.backend", Type::kEnum, "", "RVE backend the DEM server must run")
-            .def("elastic")
-            .one_of({"elastic", "yade", "native", "cuda"}));
-  s.add(key("coupling.outputs", Type::kStringList, "",
-            "per-RVE outputs the server computes and returns (only these; only outputs the "
-            "backend computes: none for elastic)")
-            .def("[]")
-            .one_of({kOutputNames[0], kOutputNames[1], kOutputNames[2], kOutputNames[3]}));
-  s.add(key("coupling.service_name", Type::kString, "",
-            "name the server publishes its MPI port under (ompi-server)")
-            .def("mpmdem")
-            .not_empty());
-  s.add(key("coupling.connect_timeout_s", Type::kDouble, "s",
-            "how long mpm_app waits for the server before giving up")
-            .def("60")
-            .gt(0));
-  s.add(key("coupling.peer_timeout_s", Type::kDouble, "s",
-            "longest mpm_app waits for one exchange with the DEM server before it gives up "
-            "naming the server ranks it cannot probe (a rank on another host that died, hangs "
-            "or was cut off: detected after this long); ranks on mpm_app's host are probed "
-            "every 0.25 s and a dead one ends the wait at once. Raise it above the slowest "
-            "legitimate exchange (kInitialise of a rank's RVEs, a checkpoint). 0: no limit")
-            .def("300")
-            .ge(0));
-  s.add(key("coupling.port_file", Type::kString, "",
-            "file holding the server's MPI port name, relative to the run directory; "
-            "removed when the server closes")
-            .def("dem_port.txt")
-            .not_empty());
-  s.add(key("coupling.lazy_tolerance", Type::kDouble, "-",
-            "lazy RVE evaluation: an RVE whose accumulated dF since its last evaluation "
-            "differs from the identity by at most this (largest |dF_acc - I| component) is "
-            "not run; its stress is held and the accumulated dF applied when it next runs. "
-            "0: every RVE runs every step")
-            .def("0")
-            .ge(0)
-            .lt(1));
-  s.add(key("coupling.rve_order", Type::kEnum, "",
-            "order of the RVEs on the wire, and so which material points each DEM rank owns "
-            "(docs/protocol.md, Partitions): interleaved spreads every rank's RVEs over the "
-            "whole body, contiguous gives each rank one region (RVE costs follow the local "
-            "strain rate, so regions differ). Results do not depend on it")
-            .def("interleaved")
-            .one_of({"interleaved", "contiguous"}));
-  s.add(key("coupling.load_balance", Type::kMap, "",
-            "cost-aware load balance of the RVEs over the server ranks (docs/protocol.md)"));
-  s.add(key("coupling.load_balance.threshold", Type::kDouble, "-",
-            "rebalance when the slowest rank's smoothed RVE cost exceeds the mean rank's by "
-            "more than this fraction (0.1: 10 %); 0 turns load balancing off. Moving a YADE "
-            "RVE reloads its scene, which changes its summation order (~1e-11 relative), and "
-            "the moves follow measured times: runs with it on are not bitwise repeatable")
-            .def("0")
-            .ge(0));
-  s.add(key("coupling.load_balance.min_interval_steps", Type::kInt, "steps",
-            "at least this many coupling steps between two rebalances (and before the first)")
-            .def("50")
-            .ge(1));
-  s.add(key("coupling.load_balance.smoothing", Type::kDouble, "-",
-            "weight of the newest cost in the exponentially smoothed per-RVE cost (1: only "
-            "the last step)")
-            .def("0.2")
-            .gt(0)
-            .le(1));
-  s.add(key("coupling.elastic", Type::kMap, "",
-            "material of the elastic stub backend (required when backend is elastic)"));
-  s.add(
-      key("coupling.elastic.youngs_modulus", Type::kDouble, "Pa", "Young's modulus E").req().gt(0));
-  s.add(key("coupling.elastic.poisson_ratio", Type::kDouble, "-", "Poisson's ratio nu")
-            .req()
-            .ge(0)
-            .lt(0.5));
+  add_generic_coupling_keys(s, {"elastic", "yade", "native", "cuda"});
+  add_elastic_keys(s);
   add_yade_keys(s);
   add_native_keys(s);
   add_cuda_keys(s);
@@ -106,34 +25,6 @@ const config::Schema& coupling_schema() {
     return s;
   }();
   return schema;
-}
-
-std::string coupling_canonical_text(const config::Config& cfg) {
-  return cfg.canonical_text("coupling");
-}
-
-std::uint32_t coupling_output_bit(const std::string& name) {
-  for (std::uint32_t i = 0; i < 4; ++i) {
-    if (name == kOutputNames[i]) return 1u << i;
-  }
-  return 0;
-}
-
-std::string coupling_output_names(std::uint32_t bits) {
-  std::string names;
-  for (std::uint32_t i = 0; i < 4; ++i) {
-    if (bits & (1u << i)) names += (names.empty() ? "" : ", ") + std::string(kOutputNames[i]);
-  }
-  return names.empty() ? "none" : names;
-}
-
-std::uint32_t coupling_output_bits(const config::Config& cfg) {
-  std::uint32_t bits = 0;
-  for (const std::string& name : cfg.strings("coupling.outputs")) bits |= coupling_output_bit(name);
-  static_assert(protocol::kOutputRotation == 1u << 0 && protocol::kOutputPorosity == 1u << 1 &&
-                protocol::kOutputCoordination == 1u << 2 &&
-                protocol::kOutputUnbalancedForce == 1u << 3 && protocol::kKnownOutputs == 0xFu);
-  return bits;
 }
 
 }  // namespace mpmdem

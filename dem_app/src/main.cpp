@@ -9,6 +9,7 @@
 //   dem_app --print-backend FILE     coupling.backend of a scene (no MPI; for scripts/run)
 //   dem_app --print-port-file FILE   coupling.port_file of a scene (no MPI; for scripts/run)
 //   dem_app --list-backends          the backends built into this dem_app, one per line
+//   dem_app --print-config-reference every key of the coupling: section (markdown tables)
 //
 // Exit codes: 0 after an orderly shutdown, 2 config/command-line error, 3 handshake
 // refused, 4 no client / MPI failure / client aborted.
@@ -49,6 +50,7 @@ constexpr const char* kUsage =
     "       dem_app --print-backend FILE   print coupling.backend of a scene and exit\n"
     "       dem_app --print-port-file FILE print coupling.port_file of a scene and exit\n"
     "       dem_app --list-backends        print the backends built into this dem_app\n"
+    "       dem_app --print-config-reference  every key of coupling: (markdown tables)\n"
     "Run under mpirun with the same --ompi-server file:URI as mpm_app (see docs/protocol.md).\n";
 
 struct Args {
@@ -192,6 +194,10 @@ int print_key(const std::string& file, const std::string& key) {
 int main(int argc, char** argv) {
   if (argc == 2 && std::string(argv[1]) == "--list-backends") {
     for (const auto& name : mpmdem::dem::available_backends()) std::cout << name << "\n";
+    return 0;
+  }
+  if (argc == 2 && std::string(argv[1]) == "--print-config-reference") {
+    std::cout << mpmdem::coupling_schema().reference();
     return 0;
   }
   if (argc == 3 && std::string(argv[1]) == "--check-config") return print_key(argv[2], "");

@@ -112,9 +112,17 @@ YAML::Node normalised(const KeySpec& spec, const YAML::Node& v) {
 }
 
 // A copy of the (possibly absent) map `node` whose keys are the children of schema path
-// `parent`, with defaults filled in for absent keys.
+// `parent`, with defaults filled in for absent keys; where `parent` is open
+// (KeySpec::open_sections), its undeclared keys as written.
 YAML::Node filled(const Schema& schema, const YAML::Node& node, const std::string& parent) {
   YAML::Node out(YAML::NodeType::Map);
+  const KeySpec* owner = parent.empty() ? nullptr : schema.find(parent);
+  if (owner && !owner->open_doc.empty() && node.IsDefined() && node.IsMap()) {
+    for (auto it = node.begin(); it != node.end(); ++it) {
+      const std::string name = it->first.Scalar();
+      if (!schema.find(parent + "." + name)) out[name] = it->second;
+    }
+  }
   for (const KeySpec* spec : schema.children(parent)) {
     const std::string name = spec->path.substr(parent.empty() ? 0 : parent.size() + 1);
     YAML::Node v(YAML::NodeType::Undefined);
@@ -171,12 +179,17 @@ std::string canonical_yaml(const YAML::Node& node) {
   return out;
 }
 
-std::string Config::canonical_text(const std::string& section) const {
-  const KeySpec* s = schema_->find(prefix_ + section);
+std::string canonical_section_text(const Schema& schema, const YAML::Node& node,
+                                   const std::string& path) {
+  const KeySpec* s = schema.find(path);
   if (!s || s->type != Type::kMap) {
-    throw std::logic_error("config: canonical_text needs a map section, got '" + section + "'");
+    throw std::logic_error("config: canonical text needs a map section, got '" + path + "'");
   }
-  return canonical_yaml(filled(*schema_, lookup(section), prefix_ + section));
+  return canonical_yaml(filled(schema, node, path));
+}
+
+std::string Config::canonical_text(const std::string& section) const {
+  return canonical_section_text(*schema_, lookup(section), prefix_ + section);
 }
 
 }  // namespace mpmdem::config

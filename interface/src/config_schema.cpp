@@ -284,6 +284,10 @@ std::string Schema::reference() const {
       row(*k);
       if (k->type == Type::kMap) walk(k->path);
       if (k->type == Type::kList) walk(k->path + "[]");
+      if (!k->open_doc.empty()) {
+        os << "| `" << k->path << ".<other>` | map | optional |  |  | " << cell(k->open_doc)
+           << " |\n";
+      }
     }
   };
   os << "## Top level\n\n" << header;
@@ -296,6 +300,10 @@ std::string Schema::reference() const {
     if (!k->doc.empty()) os << k->doc << "\n\n";
     os << header;
     walk(k->type == Type::kList ? k->path + "[]" : k->path);
+    if (!k->open_doc.empty()) {
+      os << "| `" << k->path << ".<other>` | map | optional |  |  | " << cell(k->open_doc)
+         << " |\n";
+    }
   }
   return os.str();
 }

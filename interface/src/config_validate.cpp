@@ -48,7 +48,15 @@ class Validator {
       }
       const std::string path = parent.empty() ? name : parent + "." + name;
       const KeySpec* spec = schema_.find(path);
-      if (!spec) unknown(key_line, parent, name, where);
+      if (!spec) {
+        const KeySpec* owner = parent.empty() ? nullptr : schema_.find(parent);
+        if (!owner || owner->open_doc.empty()) unknown(key_line, parent, name, where);
+        if (!v.IsMap() && !v.IsNull()) {
+          fail(key_line, where,
+               "must be a map of keys (" + owner->open_doc + "), got " + describe(v));
+        }
+        continue;  // another program's section
+      }
       value(*spec, v, where, key_line);
     }
     // Required keys and required sections of this map.

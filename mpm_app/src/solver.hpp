@@ -52,12 +52,12 @@
 #include <vector>
 
 #include "boundary_conditions.hpp"
-#include "constitutive/elastic_law.hpp"
 #include "constitutive/provider.hpp"
 #include "energies.hpp"
 #include "energy_budget.hpp"
 #include "errors.hpp"
 #include "grid.hpp"
+#include "mpmdem/laws/elastic_law.hpp"
 #include "particles.hpp"
 #include "scene.hpp"
 #include "shape_functions.hpp"

@@ -23,11 +23,11 @@
 #include <vector>
 
 #include "coupling_schema.hpp"
-#include "elastic_law.hpp"
 #include "mpmdem/config_hash.hpp"
 #include "mpmdem/connection.hpp"
 #include "mpmdem/errors.hpp"
 #include "mpmdem/exchange.hpp"
+#include "mpmdem/laws/elastic_law.hpp"
 
 namespace {
 

@@ -25,11 +25,12 @@ TEST(ConfigCanonical, CouplingHashIgnoresOrderAndOmittedDefaults) {
   const std::uint64_t a = coupling_hash(
       "coupling:\n  backend: elastic\n  outputs: [rotation]\n"
       "  elastic: {youngs_modulus: 1e7, poisson_ratio: 0.3}\n");
-  // Reordered keys, defaults written out, numbers written differently.
+  // Reordered keys; the generic keys' defaults written out and their numbers written
+  // differently; the backend's section reordered.
   const std::uint64_t b = coupling_hash(
-      "coupling:\n  elastic: {poisson_ratio: 0.30, youngs_modulus: 10000000.0}\n"
+      "coupling:\n  elastic: {poisson_ratio: 0.3, youngs_modulus: 1e7}\n"
       "  connect_timeout_s: 60.0\n  outputs: [rotation]\n  service_name: mpmdem\n"
-      "  port_file: \"dem_port.txt\"\n");
+      "  port_file: \"dem_port.txt\"\n  lazy_tolerance: 0e0\n");
   EXPECT_EQ(a, b);
   // Any change of value changes the hash.
   EXPECT_NE(a, coupling_hash("coupling:\n  backend: elastic\n  outputs: [rotation]\n"
@@ -38,18 +39,67 @@ TEST(ConfigCanonical, CouplingHashIgnoresOrderAndOmittedDefaults) {
                              "  elastic: {youngs_modulus: 1e7, poisson_ratio: 0.3}\n"));
   EXPECT_NE(a, coupling_hash("coupling:\n  outputs: [rotation]\n  connect_timeout_s: 61\n"
                              "  elastic: {youngs_modulus: 1e7, poisson_ratio: 0.3}\n"));
+  // A backend's section counts as written (mpm_app does not know its keys): another spelling
+  // of a number, a default written out, or another backend's section change the hash.
+  EXPECT_NE(a, coupling_hash("coupling:\n  outputs: [rotation]\n"
+                             "  elastic: {youngs_modulus: 10000000, poisson_ratio: 0.3}\n"));
+  EXPECT_NE(a, coupling_hash("coupling:\n  outputs: [rotation]\n  native: {seed: 0}\n"
+                             "  elastic: {youngs_modulus: 1e7, poisson_ratio: 0.3}\n"));
+}
+
+TEST(ConfigCanonical, CouplingTextFollowsTheDocumentedRule) {
+  // docs/protocol.md's rule, byte for byte: generic keys normalised with defaults, the
+  // backend's section as written (sorted; a scalar that is not plain-safe quoted), absent
+  // backend sections left out.
+  const Config cfg = Config::from_string(
+      "config_version: 1\ncoupling:\n  backend: native\n  connect_timeout_s: 6e1\n"
+      "  native: {seed: 01, packing_dir: ../packings/x, damping: 0.20}\n",
+      mpmdem::coupling_schema(), "c.yaml", "coupling");
+  EXPECT_EQ(mpmdem::coupling_canonical_text(cfg),
+            "{backend: native, connect_timeout_s: 60, lazy_tolerance: 0, load_balance: "
+            "{min_interval_steps: 50, smoothing: 0.2, threshold: 0}, native: {damping: 0.20, "
+            "packing_dir: \"../packings/x\", seed: 01}, outputs: [], peer_timeout_s: 300, "
+            "port_file: dem_port.txt, rve_order: interleaved, service_name: mpmdem}");
 }
 
 TEST(ConfigCanonical, SceneAndServerComputeTheSameHash) {
-  // mpm_app loads the whole scene, dem_app only the coupling section: same hash.
-  const std::string file =
-      (fs::path(MPMDEM_SOURCE_DIR) / "configs/elastic_column_remote.yaml").string();
-  const mpmdem::mpm::Scene scene = load_scene(file);
-  const Config server = Config::load(file, mpmdem::coupling_schema(), "coupling");
-  EXPECT_EQ(scene.coupling.canonical_text, mpmdem::coupling_canonical_text(server));
-  EXPECT_EQ(scene.coupling.hash, mpmdem::fnv1a64(mpmdem::coupling_canonical_text(server)));
+  // mpm_app loads the whole scene without the backends' keys, dem_app only the coupling
+  // section with them: the same text, so the same hash.
+  for (const char* name : {"configs/elastic_column_remote.yaml", "configs/column_collapse_3d.yaml",
+                           "configs/column_collapse.yaml"}) {
+    SCOPED_TRACE(name);
+    const std::string file = (fs::path(MPMDEM_SOURCE_DIR) / name).string();
+    const mpmdem::mpm::Scene scene = load_scene(file);
+    const Config server = Config::load(file, mpmdem::coupling_schema(), "coupling");
+    EXPECT_EQ(scene.coupling.canonical_text, mpmdem::coupling_canonical_text(server));
+    EXPECT_EQ(scene.coupling.hash, mpmdem::fnv1a64(mpmdem::coupling_canonical_text(server)));
+  }
+  const mpmdem::mpm::Scene scene =
+      load_scene((fs::path(MPMDEM_SOURCE_DIR) / "configs/elastic_column_remote.yaml").string());
   EXPECT_CONTAINS(scene.coupling.canonical_text, std::string("backend: elastic"));
-  EXPECT_CONTAINS(scene.coupling.canonical_text, std::string("youngs_modulus: 10000000"));
+  EXPECT_CONTAINS(scene.coupling.canonical_text, std::string("youngs_modulus: 1.0e7"));
+}
+
+TEST(ConfigCanonical, MpmSideTakesBackendSectionsUnreadServerChecksThem) {
+  const std::string text = "config_version: 1\ncoupling:\n  backend: native\n  native: {sed: 1}\n";
+  // mpm_app's schema: the backend's section is dem_app's; a generic key is still checked.
+  EXPECT_NO_THROW(Config::from_string(text, scene_schema(), "s.yaml", "coupling"));
+  EXPECT_THROW(
+      Config::from_string(text + "  servce_name: x\n", scene_schema(), "s.yaml", "coupling"),
+      ConfigError);
+  try {
+    Config::from_string(text + "  yade: 3\n", scene_schema(), "s.yaml", "coupling");
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_CONTAINS(std::string(e.what()), std::string("coupling.yade must be a map of keys"));
+  }
+  // dem_app's schema knows the section and refuses the typo.
+  try {
+    Config::from_string(text, mpmdem::coupling_schema(), "s.yaml", "coupling");
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_CONTAINS(std::string(e.what()), std::string("unknown key 'coupling.native.sed'"));
+  }
 }
 
 TEST(ConfigSection, SectionOnlyLoadingIgnoresOtherSections) {
@@ -135,7 +185,8 @@ TEST(ShippedConfigs, ElasticColumnAndBarAreTheDocumentedProblems) {
   const Scene rem = load_scene(dir + "/elastic_column_remote.yaml");
   EXPECT_EQ(rem.constitutive.model, ModelKind::kRemote);
   EXPECT_EQ(rem.coupling.backend, "elastic");
-  const Config rc = Config::load(dir + "/elastic_column_remote.yaml", scene_schema());
+  const Config rc =
+      Config::load(dir + "/elastic_column_remote.yaml", mpmdem::coupling_schema(), "coupling");
   EXPECT_DOUBLE_EQ(rc.number("coupling.elastic.youngs_modulus"), E);
   EXPECT_DOUBLE_EQ(rc.number("coupling.elastic.poisson_ratio"), nu);
   EXPECT_EQ(rem.grid.extent, col.grid.extent);

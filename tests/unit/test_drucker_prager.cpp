@@ -17,8 +17,8 @@
 
 #include "config/scene_loader.hpp"
 #include "constitutive/drucker_prager.hpp"
-#include "constitutive/elastic_law.hpp"
 #include "constitutive/linear_elastic.hpp"
+#include "mpmdem/laws/elastic_law.hpp"
 #include "mpmdem/protocol.hpp"
 #include "particle_init.hpp"
 #include "solver.hpp"

@@ -1,4 +1,4 @@
-// The objective linear-elastic law (constitutive/elastic_law.hpp) and the linear_elastic
+// The objective linear-elastic law (mpmdem/laws/elastic_law.hpp) and the linear_elastic
 // provider built on it.
 #include <gtest/gtest.h>
 
@@ -6,8 +6,8 @@
 #include <cmath>
 #include <random>
 
-#include "constitutive/elastic_law.hpp"
 #include "constitutive/linear_elastic.hpp"
+#include "mpmdem/laws/elastic_law.hpp"
 
 using mpmdem::elastic::ElasticLaw;
 using Mat3 = Eigen::Matrix3d;

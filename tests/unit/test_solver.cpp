@@ -8,9 +8,9 @@
 #include <functional>
 #include <string>
 
-#include "constitutive/elastic_law.hpp"
 #include "constitutive/linear_elastic.hpp"
 #include "errors.hpp"
+#include "mpmdem/laws/elastic_law.hpp"
 #include "mpmdem/protocol.hpp"
 #include "particle_init.hpp"
 #include "solver.hpp"

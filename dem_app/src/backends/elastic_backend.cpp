@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "elastic_law.hpp"
+#include "mpmdem/laws/elastic_law.hpp"
 
 namespace mpmdem::dem {
 

@@ -8,9 +8,8 @@
 #include <filesystem>
 
 #include "config/scene_rules.hpp"
-#include "coupling_rules.hpp"
-#include "coupling_schema.hpp"
 #include "mpmdem/config_hash.hpp"
+#include "mpmdem/coupling_keys.hpp"
 
 namespace mpmdem::mpm {
 
@@ -244,7 +243,6 @@ ConstitutiveParams load_constitutive(const Config& cfg) {
                "is remote but the file has no coupling: section (backend, outputs, ...); "
                "add one, see docs/configuration.md");
     }
-    check_coupling(cfg);
   } else if (cfg.string("constitutive.model") == "drucker_prager") {
     c.model = ModelKind::kDruckerPrager;
     if (!cfg.has("constitutive.drucker_prager")) {

@@ -2,8 +2,8 @@
 // when the file is loaded (load_scene calls check_scene_rules() last, so mpm_app
 // --check-config and scripts/run refuse the scene before anything runs). Each throws
 // config::ConfigError naming the key, its value, the file and the line, and what to change.
-// Rules of one section stay with its loader (config/scene_loader.cpp); rules of the DEM
-// side's `coupling:` section are in dem_app/src/coupling_rules.hpp.
+// Rules of one section stay with its loader (config/scene_loader.cpp); the DEM backends'
+// sections of `coupling:` and their rules are dem_app's (`dem_app --check-config`).
 #pragma once
 
 #include "mpmdem/config/schema.hpp"

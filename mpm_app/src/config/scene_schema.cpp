@@ -2,7 +2,7 @@
 // range). `mpm_app --print-config-reference` prints it; docs/configuration.md explains it.
 // SI units throughout. Keys map 1:1 onto the structs of scene.hpp.
 #include "config/scene_loader.hpp"
-#include "coupling_schema.hpp"
+#include "mpmdem/coupling_keys.hpp"
 
 namespace mpmdem::mpm {
 
@@ -386,7 +386,7 @@ const config::Schema& scene_schema() {
     add_constraint_keys(s);
     add_solver_keys(s);
     add_constitutive_keys(s);
-    add_coupling_keys(s);
+    add_generic_coupling_keys(s, {});  // the backends' sections: dem_app validates them
     add_output_keys(s);
     add_verification_keys(s);
     add_column_collapse_keys(s);

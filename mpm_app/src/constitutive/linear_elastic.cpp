@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "constitutive/elastic_law.hpp"
+#include "mpmdem/laws/elastic_law.hpp"
 #include "mpmdem/protocol.hpp"
 
 namespace mpmdem::mpm {

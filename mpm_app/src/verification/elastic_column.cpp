@@ -47,9 +47,11 @@ ElasticModuli scene_elastic_moduli(const Scene& scene) {
                          "elastic, or verification.kind none");
   }
   if (scene.constitutive.model == ModelKind::kRemote && !remote_elastic(scene, m.E, m.nu)) {
-    throw std::runtime_error(
-        "verification needs the elastic moduli of the remote model: coupling.elastic."
-        "youngs_modulus and coupling.elastic.poisson_ratio not found");
+    throw SceneError("coupling.backend",
+                     "is elastic but the section coupling.elastic (youngs_modulus, "
+                     "poisson_ratio) is missing or incomplete: " +
+                         std::string(run_support::verification_name(scene.verification.kind)) +
+                         " compares with the stub's moduli");
   }
   m.M = m.E * (1.0 - m.nu) / ((1.0 + m.nu) * (1.0 - 2.0 * m.nu));
   return m;

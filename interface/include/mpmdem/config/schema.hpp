@@ -7,7 +7,9 @@
 // A key is declared after its parent: a map ("solver", Type::kMap) or a list of maps
 // ("regions", Type::kList); an undeclared parent map is declared implicitly (no doc).
 // A required key must be present whenever its parent map is; an optional map that is absent
-// is not looked into. `config_version` is declared by every Schema and checked first.
+// is not looked into. A map declared with open_sections() also takes undeclared sections
+// (maps) that another program validates. `config_version` is declared by every Schema and
+// checked first.
 //
 // Declaring a key reads best with the helpers below:
 //   schema.add(key("solver.cfl", Type::kDouble, "-", "Courant number").def("0.5").gt(0).le(1));
@@ -54,6 +56,10 @@ struct KeySpec {
   std::vector<std::string> choices;
   bool max_exclusive = false;  // value must be < max instead of <= max
   bool nonempty = false;       // kString: the empty string is refused
+  // kMap: keys it does not declare are accepted when they hold maps, not looked into here:
+  // sections another program validates (mpm_app's `coupling:` holds the DEM backends'
+  // sections, which dem_app declares). Non-empty: the doc of those sections.
+  std::string open_doc;
 
   // Fluent setters for readable declarations (see key() below).
   KeySpec& def(std::string yaml) {
@@ -90,6 +96,10 @@ struct KeySpec {
   }
   KeySpec& not_empty() {
     nonempty = true;
+    return *this;
+  }
+  KeySpec& open_sections(std::string sections_doc) {
+    open_doc = std::move(sections_doc);
     return *this;
   }
 };
@@ -201,6 +211,11 @@ class Config {
 // so that two files that mean the same thing hash the same. Scalars are written plain when
 // they consist of [A-Za-z0-9_.+-] only, else double-quoted with escapes; null is "~".
 std::string canonical_yaml(const YAML::Node& node);
+// Canonical text of the map `node` (absent: every default) read as the section `path` of
+// `schema`: its declared keys normalised with defaults filled in, as Config::canonical_text,
+// and, where the section is open (KeySpec::open_sections), its other keys as written.
+std::string canonical_section_text(const Schema& schema, const YAML::Node& node,
+                                   const std::string& path);
 // Shortest decimal text that reads back as exactly `v` ("0.3", "1e+07", "60").
 std::string format_number(double v);
 

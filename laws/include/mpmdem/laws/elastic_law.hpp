@@ -1,7 +1,7 @@
 // Isotropic linear elasticity with an objective (rotation-exact) incremental update.
 //
-// Header-only and Eigen-only on purpose: dem_app's elastic stub server includes this same
-// file (target mpm_elastic_law), so the local `linear_elastic` provider and the remote stub
+// Header-only and Eigen-only on purpose: mpm_app's local `linear_elastic` provider and
+// dem_app's elastic stub backend both include this file (target mpmdem_laws), so they
 // return bit-identical stresses for identical dF. Keep it deterministic: no threads, no
 // randomness, the same operations in the same order for every caller.
 //

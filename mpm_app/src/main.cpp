@@ -21,12 +21,13 @@
 #include "mpmdem/connection.hpp"
 #include "particle_init.hpp"
 #include "run_driver.hpp"
+#include "run_status.hpp"
 
 namespace {
 
 using namespace mpmdem::mpm;
 
-constexpr int kExitConfig = 2;
+const int kExitConfig = exit_code(RunStatus::kConfigError);
 
 int check_config(const std::string& file) {
   try {

@@ -25,6 +25,7 @@
 #include "output/run_outputs.hpp"
 #include "particle_init.hpp"
 #include "progress.hpp"
+#include "run_status.hpp"
 #include "run_support.hpp"
 #include "solver.hpp"
 #include "verification/bar_vibration.hpp"
@@ -57,8 +58,8 @@ class Run {
     try {
       time_loop();
       final_outputs();
-      if (s().status == "complete") verify();
-      result_.exit_code = s().status == "interrupted" ? 130 : 0;
+      if (status_ == RunStatus::kComplete) verify();
+      result_.exit_code = exit_code(status_);
     } catch (const std::exception& e) {
       fail(e);
     }
@@ -106,22 +107,14 @@ class Run {
         solver_ = std::make_unique<Solver>(scene_, std::move(particles),
                                            make_remote_provider(scene_, n, dir_));
       }
-    } catch (const SceneError& e) {
-      return setup_failed(e.what(), kExitConfigError);
-    } catch (const config::ConfigError& e) {
-      return setup_failed(e.what(), kExitConfigError);
-    } catch (const RunDirectoryError& e) {
-      return setup_failed(e.what(), kExitConfigError);
-    } catch (const HandshakeError& e) {
-      return setup_failed(e.what(), kExitHandshakeError);
     } catch (const std::exception& e) {
-      return setup_failed(std::string("setting up the run failed: ") + e.what(), kExitPeerError);
+      return setup_failed("setting up the run failed: ", e);
     }
     if (scene_.column_collapse.enabled) column_.emplace(scene_);
     sum.model = solver_->provider().name();
     sum.mass_initial_kg = total_mass(solver_->particles());
     sum.dt_min_s = std::numeric_limits<double>::infinity();
-    sum.status = "complete";
+    set_status(RunStatus::kComplete);
     out_ << "mpm_app " << MPMDEM_VERSION << ": scene '" << scene_.name << "' ("
          << scene_.source_file << ")\n  " << solver_->particles().size()
          << " material points, cell size " << scene_.grid.cell_size << " m, model " << sum.model
@@ -161,12 +154,8 @@ class Run {
                           : make_remote_provider(scene_, n, dir_);
       solver_ = std::make_unique<Solver>(scene_, std::move(state), std::move(provider));
       solver_->provider().load_state(resumed_.provider_state);
-    } catch (const RunDirectoryError& e) {
-      return setup_failed(e.what(), kExitConfigError);
-    } catch (const HandshakeError& e) {
-      return setup_failed(e.what(), kExitHandshakeError);
     } catch (const std::exception& e) {
-      return setup_failed(std::string("resuming the run failed: ") + e.what(), kExitPeerError);
+      return setup_failed("resuming the run failed: ", e);
     }
     if (scene_.column_collapse.enabled) {
       column_.emplace(scene_);
@@ -181,7 +170,7 @@ class Run {
     sum.dt_max_s = resumed_.dt_max_s;
     wall_before_ = resumed_.wall_time_s;
     newest_checkpoint_wall_s_ = resumed_.wall_time_s;
-    sum.status = "complete";
+    set_status(RunStatus::kComplete);
     out_ << "mpm_app " << MPMDEM_VERSION << ": scene '" << scene_.name << "' resumed from "
          << resume_dir_ << " (step " << solver_->step_count() << ", t=" << solver_->time()
          << " s)\n  results: " << dir_ << std::endl;
@@ -248,11 +237,20 @@ class Run {
     s().run_directory = dir_;
   }
 
-  bool setup_failed(const std::string& what, int code) {
+  void set_status(RunStatus status) {
+    status_ = status;
+    s().status = status_text(status);
+  }
+
+  // A run that could not start: the message (an untyped fault's after `context`), the exit
+  // code of its kind (run_status.hpp). Returns false.
+  bool setup_failed(const std::string& context, const std::exception& e) {
+    const RunStatus status = failure_status(e);
+    const std::string what = (status == RunStatus::kFailed ? context : "") + e.what();
     err_ << "error: " << what << std::endl;
-    result_.exit_code = code;
+    result_.exit_code = exit_code(status);
     if (dir_created_) {  // mark the directory's (empty) results as failed
-      s().status = "failed";
+      set_status(status);
       s().error = what;
       s().wall_time_s = wall_time();
       write_summary_file();
@@ -285,12 +283,12 @@ class Run {
 
     while (!solver_->finished() && !(column_ && column_->done(solver_->time()))) {
       if (stop_requested()) {
-        s().status = "interrupted";
+        set_status(RunStatus::kInterrupted);
         out_ << "stop requested: stopping after step " << solver_->step_count() << std::endl;
         break;
       }
       if (opt_.max_steps > 0 && solver_->step_count() >= opt_.max_steps) {
-        s().status = "truncated";
+        set_status(RunStatus::kTruncated);
         out_ << "--max-steps " << opt_.max_steps << " reached: stopping" << std::endl;
         break;
       }
@@ -425,11 +423,10 @@ class Run {
                            : "; the newest checkpoint complete on both sides is " + last +
                                  " (scripts/run --resume " + dir_ + ")");
     }
-    s().status = "failed";
+    set_status(failure_status(e));
     s().error = msg.str();
     err_ << "error: " << s().error << std::endl;
-    result_.exit_code =
-        dynamic_cast<const HandshakeError*>(&e) ? kExitHandshakeError : kExitPeerError;
+    result_.exit_code = exit_code(status_);
   }
 
   // Provider end, headline figures, summary.json, closing lines.
@@ -438,7 +435,7 @@ class Run {
     // A complete or interrupted run ends the provider in order (remote: the servers shut
     // down and exit 0). After a failure it is not finished: destroying it aborts, so a
     // remote server ends with an error too.
-    if (sum.status != "failed") {
+    if (!is_failure(status_)) {
       try {
         solver_->provider().finish();
       } catch (const std::exception& e) {
@@ -486,7 +483,9 @@ class Run {
     }
     if (opt_.final_particles) *opt_.final_particles = p;
     sum.wall_time_s = wall_time();
-    if (!write_summary_file() && result_.exit_code == 0) result_.exit_code = kExitPeerError;
+    if (!write_summary_file() && result_.exit_code == 0) {
+      result_.exit_code = exit_code(RunStatus::kFailed);
+    }
     out_ << "status: " << sum.status << ", " << sum.steps << " steps, t=" << sum.time_s
          << " s, wall " << sum.wall_time_s << " s" << std::endl;
     for (const auto& [key, value] : sum.verification) out_ << "  " << key << " = " << value << "\n";
@@ -512,6 +511,7 @@ class Run {
   std::string dir_;
   bool dir_created_ = false;
   RunResult result_;
+  RunStatus status_ = RunStatus::kComplete;  // summary.json's "status" is status_text(status_)
   std::unique_ptr<Solver> solver_;
   std::optional<RunOutputs> outputs_;  // energy log, timings, frames, checkpoint triggers
   std::optional<BarVibrationMonitor> bar_;

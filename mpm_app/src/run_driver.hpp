@@ -2,15 +2,9 @@
 // constitutive provider, solver; the time loop with progress lines, energy log and VTK
 // frames; the final state, the verification figures and summary.json.
 //
-// Exit codes (RunResult::exit_code, returned by mpm_app):
-//   0   complete
-//   2   scene or output-directory fault, found before the run directory was created
-//   3   the DEM server refused the handshake (versions, config hash, ...; remote model)
-//   4   the simulation failed (SimulationError, non-finite state, no server, peer error);
-//       summary.json says "status": "failed" with the message
-//   0   also for a run cut short by --max-steps ("status": "truncated")
-//   130 interrupted by SIGINT/SIGTERM: stopped after the current step, outputs written,
-//       "status": "interrupted"
+// RunResult::exit_code, returned by mpm_app, and summary.json's "status" follow how the run
+// ended: run_status.hpp (0 complete or truncated, 2 scene/directory fault, 3 handshake
+// refused, 4 failed, 130 interrupted).
 #pragma once
 
 #include <cstdint>

@@ -8,6 +8,8 @@
 //                                    (no MPI; for scripts/run, before anything runs)
 //   dem_app --print-backend FILE     coupling.backend of a scene (no MPI; for scripts/run)
 //   dem_app --print-port-file FILE   coupling.port_file of a scene (no MPI; for scripts/run)
+//   dem_app --print-config-hash FILE the Hello's config_hash (16 hex digits) and the canonical
+//                                    coupling text it hashes (no MPI; docs/protocol.md)
 //   dem_app --list-backends          the backends built into this dem_app, one per line
 //   dem_app --print-config-reference every key of the coupling: section (markdown tables)
 //
@@ -15,6 +17,7 @@
 // refused, 4 no client / MPI failure / client aborted.
 #include <mpi.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
@@ -49,6 +52,9 @@ constexpr const char* kUsage =
     "       dem_app --check-config FILE    validate the scene's coupling: section and exit\n"
     "       dem_app --print-backend FILE   print coupling.backend of a scene and exit\n"
     "       dem_app --print-port-file FILE print coupling.port_file of a scene and exit\n"
+    "       dem_app --print-config-hash FILE  print the config hash this server would send\n"
+    "              in its Hello (16 hex digits) and, on line 2, the canonical coupling text\n"
+    "              it hashes (docs/protocol.md), and exit\n"
     "       dem_app --list-backends        print the backends built into this dem_app\n"
     "       dem_app --print-config-reference  every key of coupling: (markdown tables)\n"
     "Run under mpirun with the same --ompi-server file:URI as mpm_app (see docs/protocol.md).\n";
@@ -191,6 +197,23 @@ int print_key(const std::string& file, const std::string& key) {
   }
 }
 
+// `dem_app --print-config-hash FILE`: Hello::config_hash as 16 hex digits, then the canonical
+// text of the coupling section it is the FNV-1a 64 of (no MPI; docs/protocol.md).
+int print_config_hash(const std::string& file) {
+  try {
+    const auto cfg = load_coupling(file);
+    const std::string text = mpmdem::coupling_canonical_text(cfg);
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx",
+                  static_cast<unsigned long long>(mpmdem::fnv1a64(text)));
+    std::cout << hex << "\n" << text << "\n";
+    return 0;
+  } catch (const std::exception& e) {
+    std::cerr << "dem_app: config error: " << e.what() << "\n";
+    return mpmdem::kExitConfigError;
+  }
+}
+
 int main(int argc, char** argv) {
   if (argc == 2 && std::string(argv[1]) == "--list-backends") {
     for (const auto& name : mpmdem::dem::available_backends()) std::cout << name << "\n";
@@ -207,6 +230,7 @@ int main(int argc, char** argv) {
   if (argc == 3 && std::string(argv[1]) == "--print-port-file") {
     return print_key(argv[2], "coupling.port_file");
   }
+  if (argc == 3 && std::string(argv[1]) == "--print-config-hash") return print_config_hash(argv[2]);
   int rank = 0;
   try {
     mpmdem::MpiSession mpi(&argc, &argv, MPI_THREAD_FUNNELED);

@@ -6,6 +6,7 @@
 #   yade          the YADE backend built into dem_app (dem_app --list-backends) and Debian's yade
 #   yade-module   Debian's yade, imported as a Python module by /usr/bin/python3 (no backend)
 #   clang-format  clang-format on PATH
+#   mpi4py        Debian's python3-mpi4py (with numpy and yaml), imported by /usr/bin/python3
 # Env: MPMDEM_BIN (build dir).
 set -uo pipefail
 skip() {
@@ -28,6 +29,9 @@ for d in "${deps[@]}"; do
         skip "dem_app was built without the YADE backend (configure with -DMPMDEM_WITH_YADE=ON; needs python3.11-dev and yade)" ;;
     clang-format)
       command -v clang-format >/dev/null || skip "clang-format is not installed (apt-get install clang-format)" ;;
+    mpi4py)
+      /usr/bin/python3 -c "import mpi4py, numpy, yaml" 2>/dev/null ||
+        skip "Debian's python3-mpi4py is not installed for /usr/bin/python3 (apt-get install python3-mpi4py)" ;;
     *) echo "needs.sh: unknown dependency '$d'" >&2; exit 2 ;;
   esac
 done

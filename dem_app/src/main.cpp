@@ -1,7 +1,7 @@
 // dem_app: the RVE server. Reads only `config_version` and the `coupling:` section of the
 // scene, opens an MPI port, serves one mpm_app until it shuts down.
 //
-//   mpirun --ompi-server file:URI -np N dem_app --backend elastic|native|yade --scene FILE
+//   mpirun --ompi-server file:URI -np N dem_app --backend elastic|native|cuda|yade --scene FILE
 //          --run-dir DIR [--restore CHECKPOINT_DIR] [--timeout S] [--idle-timeout S]
 //          [--jobs K --job-index J]
 //   dem_app --check-config FILE      validate the scene's coupling: section as the server would
@@ -36,7 +36,7 @@
 namespace {
 
 constexpr const char* kUsage =
-    "usage: dem_app --backend elastic|native|yade --scene FILE --run-dir DIR\n"
+    "usage: dem_app --backend elastic|native|cuda|yade --scene FILE --run-dir DIR\n"
     "               [--restore CHECKPOINT_DIR] [--timeout S] [--idle-timeout S]\n"
     "               [--jobs K --job-index J]\n"
     "  --backend   RVE backend; must equal coupling.backend of the scene\n"

@@ -9,7 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "mpmdem/protocol.hpp"
+#include "constitutive/rve_outputs.hpp"
 #include "particle_init.hpp"
 #include "state_guard.hpp"
 #include "time_step.hpp"
@@ -117,11 +117,11 @@ Solver::Solver(const Scene& scene, Particles particles,
   fill_if_empty(p_.strain_energy, n, 0.0);
   fill_if_empty(p_.state, n, PointState::kOk);
   if (scene_.constitutive.model == ModelKind::kRemote) {
-    const std::uint32_t out = scene_.coupling.outputs;
-    if (out & protocol::kOutputRotation) p_.rotation.assign(n, Vec3::Zero());
-    if (out & protocol::kOutputPorosity) p_.porosity.assign(n, 0.0);
-    if (out & protocol::kOutputCoordination) p_.coordination.assign(n, 0.0);
-    if (out & protocol::kOutputUnbalancedForce) p_.unbalanced_force.assign(n, 0.0);
+    const RveOutputs out = rve_outputs(scene_.coupling.outputs);
+    if (out.rotation) p_.rotation.assign(n, Vec3::Zero());
+    if (out.porosity) p_.porosity.assign(n, 0.0);
+    if (out.coordination) p_.coordination.assign(n, 0.0);
+    if (out.unbalanced_force) p_.unbalanced_force.assign(n, 0.0);
   }
   set_up_energy_law_and_mass_floor();
 

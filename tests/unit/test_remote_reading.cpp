@@ -1,10 +1,12 @@
 // What the MPM reads from the wire into its own types. RVE statuses
 // (constitutive/rve_point_state.hpp): each protocol::RveStatus to its PointState; every fatal
 // status, unknown codes included, to kFatal with the status named for the solver's message.
+// The requested outputs (constitutive/rve_outputs.hpp): each OutputBits bit to its field.
 #include <gtest/gtest.h>
 
 #include <cstdint>
 
+#include "constitutive/rve_outputs.hpp"
 #include "constitutive/rve_point_state.hpp"
 #include "mpmdem/protocol.hpp"
 
@@ -58,4 +60,17 @@ TEST(RvePointState, ReadingAnOkStatusClearsAnEarlierFailure) {
   read_rve_status(code(RveStatus::kNoContacts), r);
   EXPECT_EQ(r.state, PointState::kNoContacts);
   EXPECT_EQ(r.failure, "");
+}
+
+TEST(RveOutputs, EachBitAsksForItsField) {
+  const RveOutputs none = rve_outputs(0);
+  EXPECT_FALSE(none.rotation || none.porosity || none.coordination || none.unbalanced_force);
+  const RveOutputs all = rve_outputs(protocol::kKnownOutputs);
+  EXPECT_TRUE(all.rotation && all.porosity && all.coordination && all.unbalanced_force);
+  const RveOutputs a = rve_outputs(protocol::kOutputRotation | protocol::kOutputCoordination);
+  EXPECT_TRUE(a.rotation && a.coordination);
+  EXPECT_FALSE(a.porosity || a.unbalanced_force);
+  const RveOutputs b = rve_outputs(protocol::kOutputPorosity | protocol::kOutputUnbalancedForce);
+  EXPECT_TRUE(b.porosity && b.unbalanced_force);
+  EXPECT_FALSE(b.rotation || b.coordination);
 }

@@ -161,7 +161,7 @@ Particles generate_particles(const Scene& scene) {
   p.sigma.assign(np, Mat3::Zero());
   p.stiffness.assign(np, 0.0);
   p.strain_energy.assign(np, 0.0);
-  p.status.assign(np, 0);
+  p.state.assign(np, PointState::kOk);
   return p;
 }
 

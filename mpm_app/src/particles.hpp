@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "constitutive/point_state.hpp"
+
 namespace mpmdem::mpm {
 
 using Vec3 = Eigen::Vector3d;
@@ -30,7 +32,7 @@ struct Particles {
   std::vector<double> porosity;
   std::vector<double> coordination;
   std::vector<double> unbalanced_force;
-  std::vector<std::int32_t> status;  // protocol::RveStatus of the last update
+  std::vector<PointState> state;  // of the last update: kOk or kNoContacts
 
   std::size_t size() const { return m.size(); }
 };

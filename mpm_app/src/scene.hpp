@@ -135,7 +135,7 @@ struct ConstitutiveParams {
 // The shared section both programs read (hashed in the handshake).
 struct CouplingParams {
   std::string backend = "elastic";
-  std::uint32_t outputs = 0;  // protocol::OutputBits
+  std::uint32_t outputs = 0;  // OutputBits (mpmdem/protocol.hpp): the RVE outputs asked for
   std::string service_name = "mpmdem";
   double connect_timeout_s = 60.0;
   double peer_timeout_s = 300.0;                // longest wait for one exchange (unprobeable ranks)

@@ -9,8 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "mpmdem/protocol.hpp"
-#include "mpmdem/rve_status.hpp"
+#include "constitutive/rve_outputs.hpp"
 #include "particle_init.hpp"
 #include "state_guard.hpp"
 #include "time_step.hpp"
@@ -66,7 +65,7 @@ void copy_points(const Particles& src, Particles& dst) {
   copy_field(src.porosity, dst.porosity, n);
   copy_field(src.coordination, dst.coordination, n);
   copy_field(src.unbalanced_force, dst.unbalanced_force, n);
-  copy_field(src.status, dst.status, n);
+  copy_field(src.state, dst.state, n);
   static_assert(sizeof(Particles) == 19 * sizeof(std::vector<double>),
                 "a field was added to Particles: copy it in copy_points()");
 }
@@ -116,13 +115,13 @@ Solver::Solver(const Scene& scene, Particles particles,
   fill_if_empty(p_.sigma, n, Mat3(Mat3::Zero()));
   fill_if_empty(p_.stiffness, n, 0.0);
   fill_if_empty(p_.strain_energy, n, 0.0);
-  fill_if_empty(p_.status, n, std::int32_t{0});
+  fill_if_empty(p_.state, n, PointState::kOk);
   if (scene_.constitutive.model == ModelKind::kRemote) {
-    const std::uint32_t out = scene_.coupling.outputs;
-    if (out & protocol::kOutputRotation) p_.rotation.assign(n, Vec3::Zero());
-    if (out & protocol::kOutputPorosity) p_.porosity.assign(n, 0.0);
-    if (out & protocol::kOutputCoordination) p_.coordination.assign(n, 0.0);
-    if (out & protocol::kOutputUnbalancedForce) p_.unbalanced_force.assign(n, 0.0);
+    const RveOutputs out = rve_outputs(scene_.coupling.outputs);
+    if (out.rotation) p_.rotation.assign(n, Vec3::Zero());
+    if (out.porosity) p_.porosity.assign(n, 0.0);
+    if (out.coordination) p_.coordination.assign(n, 0.0);
+    if (out.unbalanced_force) p_.unbalanced_force.assign(n, 0.0);
   }
   set_up_energy_law_and_mass_floor();
 
@@ -398,13 +397,13 @@ void Solver::apply_responses() {
 #pragma omp parallel for schedule(static) if (n > kParallelMin) reduction(min : bad)
   for (std::ptrdiff_t q = 0; q < n; ++q) {
     const PointResponse& r = responses_[slot_[q]];
-    if (!r.stress.allFinite() || !std::isfinite(r.stiffness) || mpmdem::is_fatal(r.status)) {
+    if (!r.stress.allFinite() || !std::isfinite(r.stiffness) || r.state == PointState::kFatal) {
       bad = std::min(bad, static_cast<std::size_t>(q));
       continue;
     }
     p_.sigma[q] = r.stress;
     p_.stiffness[q] = r.stiffness;
-    p_.status[q] = r.status;
+    p_.state[q] = r.state;
     if (rotation) p_.rotation[q] = r.rotation;
     if (porosity) p_.porosity[q] = r.porosity;
     if (coordination) p_.coordination[q] = r.coordination;
@@ -418,8 +417,9 @@ void Solver::apply_responses() {
   const PointResponse& r = responses_[slot_[bad]];
   std::ostringstream msg;
   msg << "constitutive provider '" << provider_->name() << "' ";
-  if (mpmdem::is_fatal(r.status)) {
-    msg << "reports status " << r.status << " (" << mpmdem::status_name(r.status) << ") for ";
+  if (r.state == PointState::kFatal) {
+    msg << "reports " << (r.failure.empty() ? std::string("a failed update") : r.failure)
+        << " for ";
   } else if (!r.stress.allFinite()) {
     msg << "returned a non-finite stress for ";
   } else {
@@ -430,8 +430,8 @@ void Solver::apply_responses() {
 }
 
 std::size_t Solver::no_contact_points() const {
-  const auto no_contacts = static_cast<std::int32_t>(protocol::RveStatus::kNoContacts);
-  return static_cast<std::size_t>(std::count(p_.status.begin(), p_.status.end(), no_contacts));
+  return static_cast<std::size_t>(
+      std::count(p_.state.begin(), p_.state.end(), PointState::kNoContacts));
 }
 
 void Solver::handle_points_outside_grid() {
@@ -505,7 +505,7 @@ void Solver::remove_points(const std::vector<char>& keep) {
   compact(p_.porosity, keep);
   compact(p_.coordination, keep);
   compact(p_.unbalanced_force, keep);
-  compact(p_.status, keep);
+  compact(p_.state, keep);
   compact(slot_, keep);
 }
 

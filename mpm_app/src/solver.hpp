@@ -128,10 +128,10 @@ class Solver {
   ConstitutiveProvider& provider() { return *provider_; }
   const StepTiming& last_timing() const { return timing_; }
   std::size_t removed_points() const { return removed_; }
-  // Point-updates that came back with a non-fatal, non-ok status (protocol::RveStatus
-  // kNoContacts: the RVE lost all contacts and returned zero stress), over the whole run.
+  // Point-updates that came back in state PointState::kNoContacts (an RVE that lost all
+  // contacts, a disconnected point: zero stress), over the whole run.
   std::int64_t no_contact_updates() const { return no_contact_updates_; }
-  // Points whose last update had that status.
+  // Points whose last update had that state.
   std::size_t no_contact_points() const;
 
  private:

@@ -1,5 +1,4 @@
 #include "transfers.hpp"
-#include "mpmdem/protocol.hpp"
 #include "node_loops.hpp"
 #include "parallel.hpp"
 
@@ -129,8 +128,7 @@ void g2p(Particles& p, const Stencils<W>& s, Grid& grid, Transfer transfer, doub
   assert(!track || (walls.work != nullptr && walls.v_free->size() == grid.size()));
   if (track) walls.work->resize(p.size());
   const Vec3* v_free = track ? walls.v_free->data() : nullptr;
-  assert(p.status.size() == p.size());
-  constexpr auto no_contacts = static_cast<std::int32_t>(protocol::RveStatus::kNoContacts);
+  assert(p.state.size() == p.size());
 #pragma omp parallel num_threads(threads) if (n > kParallelMin)
   {
     const int t = omp_get_thread_num();
@@ -167,7 +165,7 @@ void g2p(Particles& p, const Stencils<W>& s, Grid& grid, Transfer transfer, doub
         // all contacts) is not a continuum: it carries no affine velocity field. Alone near
         // a wall its C would otherwise feed on itself (docs/transfers.md, "The disconnected
         // state"). Dropping C removes no linear momentum: sum_i N_ip (x_i - x_p) = 0.
-        p.C[q] = p.status[q] == no_contacts ? Mat3::Zero().eval() : C;
+        p.C[q] = p.state[q] == PointState::kNoContacts ? Mat3::Zero().eval() : C;
       } else if (transfer == Transfer::kXPIC) {
         // XPIC: v_target = sum N (v*_i + v_i - v0_i).
         Vec3 v_star = Vec3::Zero();

@@ -374,7 +374,7 @@ void resumed_run_ends_in_the_uninterrupted_state(Scene scene) {
     ASSERT_EQ(a.final_state.v[q], b.final_state.v[q]) << "point " << q;
     ASSERT_EQ(a.final_state.sigma[q], b.final_state.sigma[q]) << "point " << q;
     ASSERT_EQ(a.final_state.C[q], b.final_state.C[q]) << "point " << q;
-    ASSERT_EQ(a.final_state.status[q], b.final_state.status[q]) << "point " << q;
+    ASSERT_EQ(a.final_state.state[q], b.final_state.state[q]) << "point " << q;
   }
   EXPECT_EQ(a.result.summary.steps, b.result.summary.steps);
   EXPECT_EQ(b.result.summary.stop_reason, "at_rest");

@@ -18,7 +18,6 @@
 #include "block_scenes.hpp"
 #include "constitutive/linear_elastic.hpp"
 #include "grid.hpp"
-#include "mpmdem/protocol.hpp"
 #include "node_loops.hpp"
 #include "particle_init.hpp"
 #include "solver.hpp"
@@ -330,7 +329,7 @@ class HalfWithoutContacts final : public ConstitutiveProvider {
   static void strip(std::vector<PointResponse>& out) {
     for (std::size_t i = 0; i < out.size(); i += 2) {
       out[i] = PointResponse{};
-      out[i].status = static_cast<std::int32_t>(mpmdem::protocol::RveStatus::kNoContacts);
+      out[i].state = PointState::kNoContacts;
     }
   }
   std::unique_ptr<ConstitutiveProvider> inner_;
@@ -351,13 +350,12 @@ TEST(FlyingBlock, PointsWithoutContactsCarryNoAffineVelocity) {
   Solver solver(scene, p, std::make_unique<HalfWithoutContacts>(scene.constitutive));
   auto momentum = [&solver] { return point_momentum(solver.particles()); };
   const Vec3 mv0 = momentum();
-  const auto no_contacts = static_cast<std::int32_t>(mpmdem::protocol::RveStatus::kNoContacts);
   for (int n = 0; n < 100; ++n) {
     solver.step();
     const Particles& P = solver.particles();
     std::size_t affine = 0;
     for (std::size_t q = 0; q < P.size(); ++q) {
-      if (P.status[q] == no_contacts) {
+      if (P.state[q] == PointState::kNoContacts) {
         ASSERT_EQ(P.C[q], Mat3::Zero()) << "point " << q << " at step " << n + 1;
       } else if (P.C[q].norm() > 0.5 * omega.norm()) {
         ++affine;

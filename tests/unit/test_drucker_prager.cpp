@@ -19,7 +19,6 @@
 #include "constitutive/drucker_prager.hpp"
 #include "constitutive/linear_elastic.hpp"
 #include "mpmdem/laws/elastic_law.hpp"
-#include "mpmdem/protocol.hpp"
 #include "particle_init.hpp"
 #include "solver.hpp"
 #include "stress_invariants.hpp"
@@ -288,17 +287,16 @@ TEST(DruckerPrager, PureRotationRotatesTheStress) {
 // K0 = nu / (1 - nu) and sigma_v = M ln(stretch) with M = K + 4G/3.
 // The disconnected state (disconnection_volume_ratio J_c, Dunatunga & Kamrin 2015). One point
 // under compression, stretched isotropically past J_c, compacted a little (still beyond J_c),
-// then back below it. Beyond J_c: zero stress and stiffness, status no contacts. Back below
+// then back below it. Beyond J_c: zero stress and stiffness, state no contacts. Back below
 // J_c: the stress restarts from zero with that step's increment (it does not return to the
 // stress held before the point disconnected), and the modulus is back. Without J_c the same
 // path never disconnects. A checkpoint carries the volume ratios.
 TEST(DruckerPrager, DisconnectsBeyondTheVolumeRatioAndReconnectsFromZeroStress) {
-  using mpmdem::protocol::RveStatus;
   ConstitutiveParams params = dp_params(30.0);
   params.disconnection_volume_ratio = 1.5;
   const DruckerPragerLaw law(params);
-  const auto no_contacts = static_cast<std::int32_t>(RveStatus::kNoContacts);
-  const auto ok = static_cast<std::int32_t>(RveStatus::kOk);
+  const auto no_contacts = PointState::kNoContacts;
+  const auto ok = PointState::kOk;
   const Mat3 sigma0 = diag(-8e3, -8e3, -1e4);
   // J after each increment: 1.158, 1.626 (disconnects), 1.578 (still), 1.150 (reconnects),
   // 1.147.
@@ -318,9 +316,9 @@ TEST(DruckerPrager, DisconnectsBeyondTheVolumeRatioAndReconnectsFromZeroStress) 
     dp->update({path[k]}, 1e-3, static_cast<std::int64_t>(k + 1), 0.0, out);
     plain->update({path[k]}, 1e-3, static_cast<std::int64_t>(k + 1), 0.0, out_plain);
     J *= path[k].determinant();
-    EXPECT_EQ(out_plain[0].status, ok);
+    EXPECT_EQ(out_plain[0].state, ok);
     if (J > 1.5) {
-      EXPECT_EQ(out[0].status, no_contacts) << "J = " << J;
+      EXPECT_EQ(out[0].state, no_contacts) << "J = " << J;
       EXPECT_EQ(out[0].stress, Mat3::Zero()) << "J = " << J;
       EXPECT_EQ(out[0].stiffness, 0.0);
       expected = Mat3::Zero();
@@ -329,7 +327,7 @@ TEST(DruckerPrager, DisconnectsBeyondTheVolumeRatioAndReconnectsFromZeroStress) 
     } else {
       if (was_disconnected) reconnected = true;
       expected = law.update(expected, path[k]);
-      EXPECT_EQ(out[0].status, ok) << "J = " << J;
+      EXPECT_EQ(out[0].state, ok) << "J = " << J;
       EXPECT_LT((out[0].stress - expected).norm(), 1e-9 * (1.0 + expected.norm())) << "J = " << J;
       EXPECT_EQ(out[0].stiffness, law.constrained_modulus());
     }
@@ -347,7 +345,7 @@ TEST(DruckerPrager, DisconnectsBeyondTheVolumeRatioAndReconnectsFromZeroStress) 
   resumed->resume({Mat3::Zero()}, out_resumed);
   resumed->load_state(saved);
   resumed->update({0.9 * Mat3::Identity()}, 1e-3, 4, 0.0, out_resumed);
-  EXPECT_EQ(out_resumed[0].status, ok);
+  EXPECT_EQ(out_resumed[0].state, ok);
   EXPECT_EQ(out_resumed[0].stress, law.update(Mat3::Zero(), 0.9 * Mat3::Identity()));
   EXPECT_THROW(resumed->load_state({1.0, 1.0}), std::runtime_error);
   // Ratios at or below 1 would disconnect points that did not dilate.
@@ -443,7 +441,7 @@ PileResult run_pile(double phi_deg) {
   keep_only(p.sigma, keep);
   keep_only(p.stiffness, keep);
   keep_only(p.strain_energy, keep);
-  keep_only(p.status, keep);
+  keep_only(p.state, keep);
   for (std::size_t i = 0; i < p.id.size(); ++i) p.id[i] = static_cast<std::int64_t>(i);
   Solver solver(s, p, make_drucker_prager(s.constitutive));
   while (!solver.finished()) solver.step();

@@ -132,7 +132,7 @@ TEST(LinearElasticProvider, AppliesTheLawPerPointAndReportsM) {
   provider->update(dF, 1e-4, 1, 1e-4, out);
   for (std::size_t i = 0; i < 5; ++i) {
     EXPECT_EQ(out[i].stress, kLaw.update(s0[i], dF[i])) << i;  // bit-identical to the law
-    EXPECT_EQ(out[i].status, 0);
+    EXPECT_EQ(out[i].state, mpmdem::mpm::PointState::kOk);
   }
   EXPECT_THROW(provider->update(std::vector<Mat3>(4, Mat3::Identity()), 1e-4, 2, 2e-4, out),
                std::logic_error);

@@ -16,6 +16,7 @@
 #include <map>
 #include <regex>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -233,7 +234,7 @@ TEST(VtkWriter, RveOutputsAppearWhenFilled) {
   p.porosity = {0.4, 0.41, 0.42};
   p.coordination = {4.0, 4.5, 5.0};
   p.rotation = {Vec3(0.1, 0, 0), Vec3(0, 0.2, 0), Vec3(0, 0, 0.3)};
-  p.status = {0, 1, 0};
+  p.state = {PointState::kOk, PointState::kNoContacts, PointState::kOk};
   write_vtu((dir.path() / "a.vtu").string(), p);
   const Vtu vtu = parse_vtu(dir.path() / "a.vtu");
   EXPECT_EQ(vtu.arrays.at("porosity"), std::vector<double>({0.4, 0.41, 0.42}));
@@ -241,6 +242,18 @@ TEST(VtkWriter, RveOutputsAppearWhenFilled) {
   EXPECT_EQ(vtu.arrays.at("status"), std::vector<double>({0, 1, 0}));
   EXPECT_EQ(vtu.components.at("rotation"), 3);
   EXPECT_EQ(vtu.arrays.at("rotation")[4], 0.2);
+}
+
+// The files store a point's state as the enum's value (0 ok, 1 no contacts); a checkpoint
+// gives back only states a point keeps.
+TEST(PointStateCodes, StoredAsTheEnumValuesAndReadBackOnlyForKeptStates) {
+  EXPECT_EQ(state_codes({PointState::kOk, PointState::kNoContacts}),
+            std::vector<std::int32_t>({0, 1}));
+  EXPECT_EQ(states_from_codes({1, 0}),
+            std::vector<PointState>({PointState::kNoContacts, PointState::kOk}));
+  EXPECT_THROW(states_from_codes({0, static_cast<std::int32_t>(PointState::kFatal)}),
+               std::runtime_error);
+  EXPECT_THROW(states_from_codes({7}), std::runtime_error);
 }
 
 TEST(Hdf5Writer, FinalStateReadsBackWithTheCApi) {

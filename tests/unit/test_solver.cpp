@@ -9,6 +9,7 @@
 #include <string>
 
 #include "constitutive/linear_elastic.hpp"
+#include "constitutive/rve_point_state.hpp"
 #include "errors.hpp"
 #include "mpmdem/laws/elastic_law.hpp"
 #include "mpmdem/protocol.hpp"
@@ -268,9 +269,9 @@ TEST(Solver, NonFiniteStressStopsTheRunNamingThePoint) {
   }
 }
 
-// A fatal status stops the run and the message names it and the point. The one status
-// vocabulary (interface/rve_status.hpp): a code this build does not know (42) is fatal here
-// as in the exchange.
+// A fatal RVE status, as the remote provider reads it (read_rve_status), stops the run and the
+// message names it and the point. The one status vocabulary (interface/rve_status.hpp): a code
+// this build does not know (42) is fatal here as in the exchange.
 TEST(Solver, FatalRveStatusStopsTheRun) {
   struct Case {
     std::int32_t status;
@@ -284,8 +285,8 @@ TEST(Solver, FatalRveStatusStopsTheRun) {
     Scene s = box(0.05, Vec3(0.2, 0.2, 0.2));
     s.regions.push_back(region("r", Vec3(0, 0, 0), Vec3(0.1, 0.1, 0.1)));
     auto fault = [c](std::int64_t, const std::vector<Mat3>&, std::vector<PointResponse>& out) {
-      out[7].status = static_cast<std::int32_t>(mpmdem::protocol::RveStatus::kNoContacts);
-      out[c.point].status = c.status;
+      read_rve_status(static_cast<std::int32_t>(mpmdem::protocol::RveStatus::kNoContacts), out[7]);
+      read_rve_status(c.status, out[c.point]);
     };
     Solver solver(s, generate_particles(s),
                   std::make_unique<HookedProvider>(s.constitutive, fault));

@@ -5,7 +5,6 @@
 #include <string>
 
 #include "mpmdem/laws/elastic_law.hpp"
-#include "mpmdem/protocol.hpp"
 #include "parallel.hpp"
 
 namespace mpmdem::mpm {
@@ -169,7 +168,7 @@ namespace {
 // The disconnected state (disconnection_volume_ratio J_c > 0; Dunatunga & Kamrin 2015): the
 // provider tracks each point's volume ratio J = prod det(dF). While J > J_c the point is a
 // granular gas below the critical density: no stress, no stiffness (so it does not set the
-// CFL step through its falling density), status kNoContacts (as an RVE that lost all its
+// CFL step through its falling density), state kNoContacts (as an RVE that lost all its
 // contacts). Compacted back to J <= J_c it reconnects: the stress restarts from zero with the
 // increment of that step, not from a stress it held before it disconnected.
 class DruckerPragerProvider final : public ConstitutiveProvider {
@@ -224,7 +223,7 @@ class DruckerPragerProvider final : public ConstitutiveProvider {
         if (J_[i] > j_c_) {
           sigma_[i].setZero();
           out[i] = PointResponse{};  // zero stress and stiffness
-          out[i].status = static_cast<std::int32_t>(protocol::RveStatus::kNoContacts);
+          out[i].state = PointState::kNoContacts;
           continue;
         }
       }
@@ -237,7 +236,7 @@ class DruckerPragerProvider final : public ConstitutiveProvider {
   void fill(std::size_t i, PointResponse& r) const {
     r.stress = sigma_[i];
     r.stiffness = law_.constrained_modulus();
-    r.status = static_cast<std::int32_t>(protocol::RveStatus::kOk);
+    r.state = PointState::kOk;
   }
 
   DruckerPragerLaw law_;

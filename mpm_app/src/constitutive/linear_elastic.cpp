@@ -5,7 +5,6 @@
 #include <string>
 
 #include "mpmdem/laws/elastic_law.hpp"
-#include "mpmdem/protocol.hpp"
 
 namespace mpmdem::mpm {
 
@@ -39,7 +38,7 @@ class LinearElasticProvider final : public ConstitutiveProvider {
       sigma_[i] = law_.update(sigma_[i], dF[i]);
       out[i].stress = sigma_[i];
       out[i].stiffness = M;
-      out[i].status = static_cast<std::int32_t>(protocol::RveStatus::kOk);
+      out[i].state = PointState::kOk;
     }
   }
 
@@ -53,7 +52,7 @@ class LinearElasticProvider final : public ConstitutiveProvider {
       const auto i = static_cast<std::size_t>(p);
       out[i].stress = sigma_[i];
       out[i].stiffness = M;
-      out[i].status = static_cast<std::int32_t>(protocol::RveStatus::kOk);
+      out[i].state = PointState::kOk;
     }
   }
 

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "constitutive/point_state.hpp"
+
 namespace mpmdem::mpm {
 
 using Mat3 = Eigen::Matrix3d;
@@ -21,7 +23,8 @@ struct PointResponse {
   double porosity = 0.0;
   double coordination = 0.0;
   double unbalanced_force = 0.0;
-  std::int32_t status = 0;  // protocol::RveStatus
+  PointState state = PointState::kOk;
+  std::string failure;  // kFatal: what failed, for messages; empty otherwise
 };
 
 // Wall times of the last update (remote: one exchange with the DEM servers).

@@ -16,6 +16,7 @@
 
 #include "constitutive/lazy_evaluation.hpp"
 #include "constitutive/load_balancer.hpp"
+#include "constitutive/rve_point_state.hpp"
 #include "mpmdem/exchange.hpp"
 #include "mpmdem/partition.hpp"
 #include "parallel.hpp"
@@ -213,7 +214,7 @@ class RemoteProvider : public ConstitutiveProvider {
       o.porosity = r.porosity;
       o.coordination = r.coordination;
       o.unbalanced_force = r.unbalanced_force;
-      o.status = r.status;
+      read_rve_status(r.status, o);
     }
   }
 

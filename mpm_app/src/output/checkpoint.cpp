@@ -81,7 +81,7 @@ void write_mpm_checkpoint(const std::string& dir, const SolverState& s, const Dr
     if (p.porosity.size() == n) f.write("porosity", p.porosity, {n});
     if (p.coordination.size() == n) f.write("coordination", p.coordination, {n});
     if (p.unbalanced_force.size() == n) f.write("unbalanced_force", p.unbalanced_force, {n});
-    f.write("status", p.status);
+    f.write("status", state_codes(p.state));
     f.write("slot", std::vector<std::int64_t>(s.slot.begin(), s.slot.end()));
     f.write("constraint_active", to_int32(s.constraint_active));
     f.write("frame_times", d.frame_times, {d.frame_times.size()});
@@ -178,11 +178,16 @@ void read_mpm_checkpoint(const std::string& dir, SolverState& s, DriverState& d)
   if (f.has("porosity")) p.porosity = f.read_doubles("porosity", n);
   if (f.has("coordination")) p.coordination = f.read_doubles("coordination", n);
   if (f.has("unbalanced_force")) p.unbalanced_force = f.read_doubles("unbalanced_force", n);
-  p.status = f.read_int32("status");
+  const auto state = f.read_int32("status");
+  try {
+    p.state = states_from_codes(state);
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error("checkpoint " + dir + "/mpm.h5: " + e.what());
+  }
   const auto slot = f.read_int64("slot");
   s.slot.assign(slot.begin(), slot.end());
   s.constraint_active = to_char(f.read_int32("constraint_active"));
-  if (p.region.size() != n || p.status.size() != n || s.slot.size() != n) {
+  if (p.region.size() != n || p.state.size() != n || s.slot.size() != n) {
     throw std::runtime_error("checkpoint " + dir + "/mpm.h5 is inconsistent (field sizes)");
   }
   s.n_slots = static_cast<std::size_t>(f.attribute_int64("n_slots"));

@@ -26,7 +26,7 @@ void write_final_state(const std::string& path, const Particles& p, const StateI
     if (p.rotation.size() == p.size()) f.write("rotation", h5::flatten(p.rotation), {n, 3});
     if (p.porosity.size() == p.size()) f.write("porosity", p.porosity, {n});
     if (p.coordination.size() == p.size()) f.write("coordination", p.coordination, {n});
-    if (p.status.size() == p.size()) f.write("status", p.status);
+    if (p.state.size() == p.size()) f.write("status", state_codes(p.state));
     f.attribute("time", info.time);
     f.attribute("step", info.step);
     f.attribute("scene", info.scene);

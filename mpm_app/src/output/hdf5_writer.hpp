@@ -2,7 +2,7 @@
 //   datasets  id (n, int64), region (n, int32), x, x0, v (n x 3), stress, F (n x 3 x 3,
 //             row-major, stress tension positive), volume, mass (n) — SI units; and when the
 //             run has them: rotation (n x 3, mean RVE particle rotation [rad]), porosity,
-//             coordination (n), status (n, int32, protocol::RveStatus);
+//             coordination (n), status (n, int32: PointState, 0 ok, 1 no contacts);
 //   attributes on the root group: time [s], step, scene (name), config_file.
 #pragma once
 

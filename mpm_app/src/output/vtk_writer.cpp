@@ -79,8 +79,8 @@ void write_vtu(const std::string& path, const Particles& p) {
     point_data.push_back(scalar_array("coordination", "Float64", p.coordination));
   if (n > 0 && p.unbalanced_force.size() == n)
     point_data.push_back(scalar_array("unbalanced_force", "Float64", p.unbalanced_force));
-  if (n > 0 && p.status.size() == n)
-    point_data.push_back(scalar_array("status", "Int32", p.status));
+  if (n > 0 && p.state.size() == n)
+    point_data.push_back(scalar_array("status", "Int32", state_codes(p.state)));
 
   Array points = vec3_array("Points", p.x);
   Array connectivity{"connectivity", "Int64", 1, {}};

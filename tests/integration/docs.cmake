@@ -25,3 +25,12 @@ mpmdem_test(NAME architecture_no_cross_edges
   COMMAND /usr/bin/python3 ${PROJECT_SOURCE_DIR}/tests/integration/architecture_edges.py
           ${PROJECT_SOURCE_DIR}
   LABELS unit)
+
+# The docs can be followed: every docs page (docs/**/*.md) is reachable by links from README.md
+# and the index docs/README.md, every relative link and anchor lands, and every repository path
+# a quoted command names (scripts/, tests/, configs/, build/ executables) exists
+# (tests/integration/docs_links.py says exactly what it reads as a quoted command).
+mpmdem_test(NAME docs_links_and_commands
+  COMMAND /usr/bin/python3 ${PROJECT_SOURCE_DIR}/tests/integration/docs_links.py
+          ${PROJECT_SOURCE_DIR}
+  LABELS unit)

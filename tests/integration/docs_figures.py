@@ -122,7 +122,7 @@ def md_links(name: str, text: str) -> list:
 
 
 def check(pages: dict, exists=None) -> list:
-    """pages: {relative path: text} for README.md and docs/*.md; exists(path): whether a
+    """pages: {relative path: text} for README.md and docs/**/*.md; exists(path): whether a
     file linked from them exists (default: it is one of the pages)."""
     exists = exists or (lambda path: path in pages)
     errors = []
@@ -181,8 +181,8 @@ def main() -> int:
         return 2
     root = Path(sys.argv[1])
     pages = {"README.md": (root / "README.md").read_text(encoding="utf-8")}
-    for p in sorted((root / "docs").glob("*.md")):
-        pages[f"docs/{p.name}"] = p.read_text(encoding="utf-8")
+    for p in sorted((root / "docs").rglob("*.md")):
+        pages[p.relative_to(root).as_posix()] = p.read_text(encoding="utf-8")
     exists = lambda path: path in pages or (root / path).is_file()  # noqa: E731
     errors = check(pages, exists)
     for e in errors:

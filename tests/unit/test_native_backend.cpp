@@ -164,7 +164,7 @@ TEST(NativeBackend, RateRuleStrainsTheRveAtTheMpmRate) {
 // force stays jammed: 200 updates of dF = I over 100 DEM steps each (20,000 steps of real
 // time, where the proportional rule would run 400) keep its contacts and its pressure within
 // 2 %. (Consolidated to 5 % unbalanced force, the column's packings lost all their contacts
-// this way within a few hundred updates: docs/transfers.md, "RVEs at the MPM's rate".)
+// this way within a few hundred updates: docs/rve_rate.md.)
 TEST(NativeBackend, RateRuleKeepsAnEquilibratedRveJammedAtConstantVolume) {
   dem::NativeParams p = params();
   p.ns_rule = dem::NativeParams::NsRule::kRate;

@@ -139,7 +139,7 @@ Solver::Solver(const Scene& scene, Particles particles,
         "cells (nodes with tiny mass); prefer scheme musl or shape bspline2");
   }
   E_p0_ = energies().E_p;
-  budget_.E_k0 = energies().E_k;
+  energy_.set_initial_kinetic_energy(energies().E_k);
   dt_next_ = next_time_step();
   if (scene_.solver.dt_fixed > 0.0) {
     const double dt_cfl = stable_time_step(p_, grid_.h, 1.0, scene_.solver.dt_max);
@@ -185,7 +185,7 @@ Solver::Solver(const Scene& scene, SolverState state,
   dt_next_ = state.dt_next;
   step_ = state.step;
   E_p0_ = state.E_p0;
-  budget_ = state.budget;
+  energy_.set_budget(state.budget);
   removed_ = state.removed;
   no_contact_updates_ = state.no_contact_updates;
   provider_->resume(slot_stress, responses_);
@@ -225,7 +225,7 @@ SolverState Solver::state() const {
   s.step = step_;
   s.no_contact_updates = no_contact_updates_;
   s.removed = removed_;
-  s.budget = budget_;
+  s.budget = energy_.budget();
   for (std::size_t c = 0; c < bc_.constraint_count(); ++c)
     s.constraint_active.push_back(bc_.constraint_active(c) ? 1 : 0);
   return s;
@@ -276,54 +276,89 @@ void Solver::step() {
   } catch (...) {
     if (restorable && step_ == before) {  // else the step's state is whole
       copy_points(step_start_, p_);
-      E_k_points_ = -1.0;
+      energy_.points_changed();
     }
     throw;
   }
 }
 
+namespace {
+
+// The wall time of a step's phases (StepTiming): lap() is the seconds since the last lap.
+class PhaseClock {
+ public:
+  double lap() {
+    const auto now = std::chrono::steady_clock::now();
+    const double s = std::chrono::duration<double>(now - last_).count();
+    last_ = now;
+    return s;
+  }
+
+ private:
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
+}  // namespace
+
+// One step, stage by stage (solver.hpp's list). The energy budget hangs on the stages through
+// energy_'s hooks (step_energy.hpp), the phase timings through the clock.
 template <class Shape>
 void Solver::step_with(Stencils<Shape::kWidth>& stencils, double dt) {
-  const SolverParams& sp = scene_.solver;
   const std::int64_t step = step_ + 1;
+  PhaseClock clock;
+  StepTiming timing;
+  compute_stencils<Shape>(grid_, p_.x, stencils);  // at x_p^n, for every transfer of the step
+  points_to_grid(stencils);                        // 1 P2G
+  timing.p2g_s = clock.lap();
+  update_grid(stencils, dt);  // 2 grid momentum, walls, constraints
+  timing.grid_s = clock.lap();
+  grid_to_points(stencils, dt);       // 3 G2P (4: MUSL's re-projection)
+  deform_points(stencils, dt, step);  // 4 dF_p, F_p, V_p
+  timing.g2p_s = clock.lap();
+  update_stresses(dt, step);  // 5 stresses, 6 guard
+  timing.stress_s = clock.lap();
+  timing.provider = provider_->last_timing();
+  timing_ = timing;
+  prepare_next_step();  // 7 next dt, constraint releases
+}
 
-  using Clock = std::chrono::steady_clock;
-  const auto seconds = [](Clock::time_point a, Clock::time_point b) {
-    return std::chrono::duration<double>(b - a).count();
-  };
-  const auto t0 = Clock::now();
-  // Shape functions at x_p^n, used by every transfer of this step.
-  compute_stencils<Shape>(grid_, p_.x, stencils);
-  // Project mass, momentum and internal force to the grid.
-  EnergyBudget step_work;  // W_damp, W_bc, W_transfer of this step
-  // The points' velocities are the last G2P's unless points were removed or restored since.
-  step_work.W_transfer = E_k_points_ >= 0.0 ? E_k_points_ : kinetic_energy(p_);
-  p2g(p_, stencils, grid_, sp.transfer, buffers_);
-  step_work.W_transfer -= grid_kinetic_energy(grid_);
-  const auto t1 = Clock::now();
-  // Integrate the grid momentum; enforce walls and velocity constraints.
-  grid_work_.before_update(grid_, sp.gravity, sp.local_damping);
+template <int W>
+void Solver::points_to_grid(const Stencils<W>& stencils) {
+  energy_.before_p2g(p_);
+  p2g(p_, stencils, grid_, scene_.solver.transfer, buffers_);
+  energy_.after_p2g(grid_);
+}
+
+template <int W>
+void Solver::update_grid(const Stencils<W>& stencils, double dt) {
+  const SolverParams& sp = scene_.solver;
+  energy_.before_grid_update(grid_, sp.gravity, sp.local_damping);
   grid_update(grid_, sp.gravity, sp.local_damping, dt);
-  grid_work_.before_bc(grid_);
+  energy_.before_bc(grid_);
   bc_.apply(grid_.v_i);
-  grid_work_.after_bc(grid_, dt, step_work);
+  energy_.after_bc(grid_, dt);
+  // XPIC's filtered velocity field, from the grid velocities the walls have fixed.
   if (sp.transfer == Transfer::kXPIC) xpic_velocity(p_, stencils, grid_, sp.xpic_order, buffers_);
-  const auto t2 = Clock::now();
-  // Update point velocities (APIC or PIC/FLIP) and positions; MUSL re-projects the momentum.
+}
+
+template <int W>
+void Solver::grid_to_points(const Stencils<W>& stencils, double dt) {
+  const SolverParams& sp = scene_.solver;
   const bool musl = sp.scheme == Scheme::kMUSL;
   g2p(p_, stencils, grid_, sp.transfer, flip_fraction(sp, dt), dt, musl, buffers_,
-      {&grid_work_.v_free(), &wall_work_});
-  E_k_points_ = kinetic_energy(p_);
-  step_work.W_transfer -= E_k_points_;
-  step_work.W_transfer_walls = -step_work.W_bc;
-  for (double w : wall_work_) step_work.W_transfer_walls += w;  // point order
-  if (musl) {
+      energy_.g2p_walls());
+  energy_.after_g2p(p_);
+  if (musl) {  // the velocity gradient from the momentum of the updated points
     grid_velocity_from_momentum(grid_);
     bc_.apply(grid_.v_i);
   }
-  // Velocity gradient -> dF_p, F_p, V_p.
+}
+
+template <int W>
+void Solver::deform_points(const Stencils<W>& stencils, double dt, std::int64_t step) {
   const std::size_t bad = update_deformation(p_, stencils, grid_, dt);
   if (bad != kNoPoint) {
+    const SolverParams& sp = scene_.solver;
     std::ostringstream msg;
     msg << describe_point(bad) << " inverted or degenerated at step " << step
         << " (det dF = " << p_.dF[bad].determinant() << ", dt = " << dt
@@ -333,9 +368,12 @@ void Solver::step_with(Stencils<Shape::kWidth>& stencils, double dt) {
         << ", or check the material parameters";
     throw SimulationError(msg.str());
   }
-  const double W_int_start = stress_work(p_, false, work_terms_);
-  const auto t3 = Clock::now();
-  // Stresses for the whole batch in one call.
+  energy_.before_stress(p_);
+}
+
+// The whole batch of dF in one provider call; the step counts once its stresses are back
+// and finite.
+void Solver::update_stresses(double dt, std::int64_t step) {
   const auto n = static_cast<std::ptrdiff_t>(p_.size());
 #pragma omp parallel for schedule(static) if (n > kParallelMin)
   for (std::ptrdiff_t q = 0; q < n; ++q) dF_slots_[slot_[q]] = p_.dF[q];
@@ -351,16 +389,10 @@ void Solver::step_with(Stencils<Shape::kWidth>& stencils, double dt) {
   dt_ = dt;
   apply_responses();
   check_finite_state(step, dt);
-  budget_.W_int += 0.5 * (W_int_start + stress_work(p_, true, work_terms_));
-  budget_.W_damp += step_work.W_damp;
-  budget_.W_bc += step_work.W_bc;
-  budget_.W_transfer += step_work.W_transfer;
-  budget_.W_transfer_walls += step_work.W_transfer_walls;
-  const auto t4 = Clock::now();
-  timing_ = {seconds(t0, t1), seconds(t1, t2), seconds(t2, t3), seconds(t3, t4),
-             provider_->last_timing()};
+  energy_.after_stress(p_);
+}
 
-  // Time step of the next step; constraints whose release condition holds now.
+void Solver::prepare_next_step() {
   dt_next_ = next_time_step();
   if (bc_.constraint_count() > 0) {
     const double E_k = bc_.needs_kinetic_energy() ? energies().E_k : 0.0;
@@ -486,7 +518,7 @@ void Solver::handle_points_outside_grid() {
 }
 
 void Solver::remove_points(const std::vector<char>& keep) {
-  E_k_points_ = -1.0;
+  energy_.points_changed();
   compact(p_.id, keep);
   compact(p_.region, keep);
   compact(p_.m, keep);

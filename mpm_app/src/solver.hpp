@@ -27,8 +27,9 @@
 //   7 Next dt  min(dt_max, cfl h / max_p (sqrt(M_p / rho_p) + |v_p|)), or solver.dt_fixed
 //              when set (stability studies: no CFL check); constraint releases.
 //
-// Energy budget (energy_budget.hpp): W_damp and W_bc from the grid around step 2, W_int from
-// the stresses before and after step 5.
+// Energy budget (energy_budget.hpp), measured through hooks at the stages (step_energy.hpp):
+// W_damp and W_bc from the grid around step 2, W_transfer around steps 1 and 3, W_int from
+// the stresses before and after step 5. Each stage is one function of solver.cpp.
 //
 // The FLIP increment uses v0_i before the boundary conditions, so a wall or a prescribed
 // velocity also changes the point velocities by exactly the impulse it applies to the grid.
@@ -61,6 +62,7 @@
 #include "particles.hpp"
 #include "scene.hpp"
 #include "shape_functions.hpp"
+#include "step_energy.hpp"
 #include "transfers.hpp"
 
 namespace mpmdem::mpm {
@@ -121,7 +123,7 @@ class Solver {
   Vec3 angular_momentum() const;
   double initial_potential_energy() const { return E_p0_; }
   // E_k0 and the work terms accumulated up to now (energy_budget.hpp).
-  const EnergyBudget& energy_budget() const { return budget_; }
+  const EnergyBudget& energy_budget() const { return energy_.budget(); }
   // Human-readable events since the last call (constraint releases, removed points).
   std::vector<std::string> take_events();
 
@@ -137,6 +139,17 @@ class Solver {
  private:
   template <class Shape>
   void step_with(Stencils<Shape::kWidth>& stencils, double dt);
+  // The stages of step_with, in order.
+  template <int W>
+  void points_to_grid(const Stencils<W>& stencils);
+  template <int W>
+  void update_grid(const Stencils<W>& stencils, double dt);
+  template <int W>
+  void grid_to_points(const Stencils<W>& stencils, double dt);
+  template <int W>
+  void deform_points(const Stencils<W>& stencils, double dt, std::int64_t step);
+  void update_stresses(double dt, std::int64_t step);
+  void prepare_next_step();
   void handle_points_outside_grid();
   void set_up_energy_law_and_mass_floor();
   void check_response_count(const char* what, std::size_t expected) const;
@@ -155,9 +168,8 @@ class Solver {
   ScatterBuffers buffers_;
   Stencils<LinearShape::kWidth> stencils_linear_;
   Stencils<QuadraticBSplineShape::kWidth> stencils_quadratic_;
-  std::vector<std::size_t> slot_;   // provider slot of each point
-  std::vector<double> work_terms_;  // stress_work()'s per-point terms
-  std::vector<Mat3> dF_slots_;      // batch sent to the provider (identity on removed slots)
+  std::vector<std::size_t> slot_;  // provider slot of each point
+  std::vector<Mat3> dF_slots_;     // batch sent to the provider (identity on removed slots)
   std::vector<PointResponse> responses_;
   std::optional<elastic::ElasticLaw> law_;  // strain energy (local models only)
   double time_ = 0.0;
@@ -165,12 +177,7 @@ class Solver {
   double dt_next_ = 0.0;
   std::int64_t step_ = 0;
   double E_p0_ = 0.0;
-  EnergyBudget budget_;
-  // Kinetic energy of the points after the last G2P, the start of the next step's W_transfer
-  // (< 0: not known, after a restart, a restored step or removed points).
-  double E_k_points_ = -1.0;
-  GridWork grid_work_;
-  std::vector<double> wall_work_;  // per point: the walls' work in G2P (W_transfer_walls)
+  StepEnergy energy_;  // the energy budget, measured at the stages of each step
   std::size_t removed_ = 0;
   std::int64_t no_contact_updates_ = 0;
   std::vector<std::string> events_;

@@ -1,6 +1,9 @@
 #include "transfers.hpp"
 #include "node_loops.hpp"
 #include "parallel.hpp"
+#include "transfer_apic.hpp"
+#include "transfer_pic_flip.hpp"
+#include "transfer_xpic.hpp"
 
 #include <omp.h>
 
@@ -16,6 +19,27 @@ namespace mpmdem::mpm {
 using detail::for_each_node;
 using detail::for_each_node_affine;
 using detail::reduce_into;
+
+namespace {
+
+// Calls fn(Rule{}) with the transfer rule of `transfer` (transfer_rule.hpp): the one place a
+// transfer is chosen.
+template <class Fn>
+void with_transfer_rule(Transfer transfer, Fn&& fn) {
+  switch (transfer) {
+    case Transfer::kAPIC:
+      fn(ApicRule{});
+      return;
+    case Transfer::kXPIC:
+      fn(XpicRule{});
+      return;
+    case Transfer::kPicFlip:
+      break;
+  }
+  fn(PicFlipRule{});
+}
+
+}  // namespace
 
 void ScatterBuffers::resize(std::size_t nodes, int threads) {
   const auto copies = static_cast<std::size_t>(std::max(0, threads - 1));
@@ -45,9 +69,8 @@ void compute_stencils(const Grid& grid, const std::vector<Vec3>& x_p, Stencils<S
   }
 }
 
-template <int W>
-void p2g(const Particles& p, const Stencils<W>& s, Grid& grid, Transfer transfer,
-         ScatterBuffers& buf) {
+template <int W, class Rule>
+void p2g_with(const Particles& p, const Stencils<W>& s, Grid& grid, ScatterBuffers& buf) {
   const int threads = omp_get_max_threads();
   buf.resize(grid.size(), threads);
   const auto n = static_cast<std::ptrdiff_t>(p.size());
@@ -67,7 +90,7 @@ void p2g(const Particles& p, const Stencils<W>& s, Grid& grid, Transfer transfer
       const double m_p = p.m[q];
       const Vec3 mv_p = m_p * p.v[q];
       const Mat3 Vsigma = p.V[q] * p.sigma[q];
-      if (transfer == Transfer::kAPIC) {
+      if constexpr (Rule::kAffine) {
         // APIC: mv_i = sum_p N_ip m_p (v_p + C_p (x_i - x_p)).
         const Mat3 mC_p = m_p * p.C[q];
         for_each_node_affine(
@@ -91,6 +114,12 @@ void p2g(const Particles& p, const Stencils<W>& s, Grid& grid, Transfer transfer
       reduce_into(grid.f_i, buf.f, used);
     }
   }
+}
+
+template <int W>
+void p2g(const Particles& p, const Stencils<W>& s, Grid& grid, Transfer transfer,
+         ScatterBuffers& buf) {
+  with_transfer_rule(transfer, [&](auto rule) { p2g_with<W, decltype(rule)>(p, s, grid, buf); });
 }
 
 void grid_update(Grid& grid, const Vec3& gravity, double damping, double dt) {
@@ -118,9 +147,9 @@ void grid_update(Grid& grid, const Vec3& gravity, double damping, double dt) {
   }
 }
 
-template <int W>
-void g2p(Particles& p, const Stencils<W>& s, Grid& grid, Transfer transfer, double flip, double dt,
-         bool reproject, ScatterBuffers& buf, const WallWork& walls) {
+template <int W, class Rule>
+void g2p_with(Particles& p, const Stencils<W>& s, Grid& grid, double flip, double dt,
+              bool reproject, ScatterBuffers& buf, const WallWork& walls) {
   const int threads = omp_get_max_threads();
   if (reproject) buf.resize(grid.size(), threads);
   const auto n = static_cast<std::ptrdiff_t>(p.size());
@@ -140,65 +169,24 @@ void g2p(Particles& p, const Stencils<W>& s, Grid& grid, Transfer transfer, doub
     for (std::ptrdiff_t q = 0; q < n; ++q) {
       // Every transfer blends v_p = flip (v_p + sum N (v_i - v0_i)) + (1 - flip) v_target,
       // flip > 0 only with a FLIP share (solver.flip_time_scale or flip_velocity_scale).
-      Vec3 v_pic = Vec3::Zero(), dv = Vec3::Zero(), v_target;
-      Vec3 jump = Vec3::Zero();     // sum N (v_i - v_free,i): the walls' share of dv
-      Mat3 jump_dx = Mat3::Zero();  // sum N (v_i - v_free,i) (x_i - x_p)^T (APIC)
+      G2PGather g;
       const Vec3 v_old = p.v[q];
-      const Mat3 C_old = track && transfer == Transfer::kAPIC ? p.C[q] : Mat3::Zero().eval();
-      if (transfer == Transfer::kAPIC) {
-        // APIC: v_target = sum_i N_ip v_i,  C_p = sum_i v_i (D_p^-1 N_ip (x_i - x_p))^T; with a
-        // FLIP share C_p stays APIC's (Fei et al. 2021).
-        Mat3 C = Mat3::Zero();
-        for_each_node_affine(
-            grid, s[q], [&](std::size_t i, double N, const Vec3&, const Vec3& dx, const Vec3& g) {
-              v_pic += N * grid.v_i[i];
-              dv += N * (grid.v_i[i] - grid.v0_i[i]);
-              C.noalias() += grid.v_i[i] * g.transpose();
-              if (track && grid.v_i[i] != v_free[i]) {  // most nodes: no wall acted
-                const Vec3 j = N * (grid.v_i[i] - v_free[i]);
-                jump += j;
-                jump_dx.noalias() += j * dx.transpose();
-              }
-            });
-        v_target = v_pic;
-        // A point without contacts (a disconnected Drucker-Prager point, an RVE that lost
-        // all contacts) is not a continuum: it carries no affine velocity field. Alone near
-        // a wall its C would otherwise feed on itself (docs/transfers.md, "The disconnected
-        // state"). Dropping C removes no linear momentum: sum_i N_ip (x_i - x_p) = 0.
-        p.C[q] = p.state[q] == PointState::kNoContacts ? Mat3::Zero().eval() : C;
-      } else if (transfer == Transfer::kXPIC) {
-        // XPIC: v_target = sum N (v*_i + v_i - v0_i).
-        Vec3 v_star = Vec3::Zero();
-        for_each_node(grid, s[q], [&](std::size_t i, double N, const Vec3&) {
-          v_pic += N * grid.v_i[i];
-          dv += N * (grid.v_i[i] - grid.v0_i[i]);
-          v_star += N * grid.vstar_i[i];
-          if (track) jump += N * (grid.v_i[i] - v_free[i]);
-        });
-        v_target = v_star + dv;
-      } else {
-        // PIC/FLIP: v_target = sum N v_i.
-        for_each_node(grid, s[q], [&](std::size_t i, double N, const Vec3&) {
-          v_pic += N * grid.v_i[i];
-          dv += N * (grid.v_i[i] - grid.v0_i[i]);
-          if (track) jump += N * (grid.v_i[i] - v_free[i]);
-        });
-        v_target = v_pic;
-      }
-      p.v[q] = flip * (p.v[q] + dv) + (1.0 - flip) * v_target;
+      const Mat3 C_old = track && Rule::kAffine ? p.C[q] : Mat3::Zero().eval();
+      Rule::gather(grid, s[q], p, static_cast<std::size_t>(q), v_free, g);
+      p.v[q] = flip * (p.v[q] + g.dv) + (1.0 - flip) * g.v_target;
       if (track) {
         // sum_i N jump_i . C_mean dx_i = (sum_i N jump_i dx_i^T) : C_mean; 0 without APIC.
-        double w = jump.dot(0.5 * (v_old + p.v[q]));
-        if (transfer == Transfer::kAPIC) {
-          w += (jump_dx.array() * (0.5 * (C_old + p.C[q])).array()).sum();
+        double w = g.jump.dot(0.5 * (v_old + p.v[q]));
+        if constexpr (Rule::kAffine) {
+          w += (g.jump_dx.array() * (0.5 * (C_old + p.C[q])).array()).sum();
         }
         (*walls.work)[q] = -p.m[q] * w;
       }
-      p.x[q] += dt * v_pic;
+      p.x[q] += dt * g.v_pic;
       if (reproject) {
         // MUSL: the new point momenta back on the grid (same stencils, same transfer).
         const Vec3 mv_p = p.m[q] * p.v[q];
-        if (transfer == Transfer::kAPIC) {
+        if constexpr (Rule::kAffine) {
           const Mat3 mC_p = p.m[q] * p.C[q];
           for_each_node_affine(
               grid, s[q], [&](std::size_t i, double N, const Vec3&, const Vec3& dx, const Vec3&) {
@@ -212,6 +200,14 @@ void g2p(Particles& p, const Stencils<W>& s, Grid& grid, Transfer transfer, doub
     }
     if (reproject && used > 1) reduce_into(grid.mv_i, buf.mv, used);
   }
+}
+
+template <int W>
+void g2p(Particles& p, const Stencils<W>& s, Grid& grid, Transfer transfer, double flip, double dt,
+         bool reproject, ScatterBuffers& buf, const WallWork& walls) {
+  with_transfer_rule(transfer, [&](auto rule) {
+    g2p_with<W, decltype(rule)>(p, s, grid, flip, dt, reproject, buf, walls);
+  });
 }
 
 void grid_velocity_from_momentum(Grid& grid) {

@@ -45,7 +45,9 @@ void p2g(const Particles& p, const Stencils<W>& s, Grid& grid, Transfer transfer
 void grid_update(Grid& grid, const Vec3& gravity, double damping, double dt);
 
 // G2P, x_p += dt sum N v_i, then (reproject = MUSL) the new momenta back to the grid with the
-// same transfer (and the stencils of x_p^n):
+// same transfer (and the stencils of x_p^n). Each transfer is a rule of its own
+// (transfer_pic_flip.hpp, transfer_apic.hpp, transfer_xpic.hpp; transfer_rule.hpp), chosen
+// once per call; P2G takes the same rule:
 //   APIC:     v_p = sum N v_i,  C_p = sum_i v_i (D_p^-1 N_ip (x_i - x_p))^T  (Jiang et al. 2015;
 //             conserves angular momentum; it still projects away the non-affine part of the
 //             velocities at every step, docs/transfers.md); with flip > 0 (a time scale) v_p is

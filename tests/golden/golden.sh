@@ -6,6 +6,8 @@
 #   default  the default 3D column (native RVEs), its first 3 steps, 2 DEM ranks
 #   elastic  configs/elastic_column_remote.yaml (elastic stub over MPI), 200 steps
 #   local    configs/column_collapse_mc.yaml (local Drucker-Prager) to its end
+#   apic     configs/column_collapse_mc_apic.yaml (APIC, USL), 300 steps
+#   xpic     tests/golden/column_xpic_musl.yaml (XPIC(2), MUSL), 300 steps
 #   yade     the tiny YADE column (tests/integration/column_yade_tiny.yaml), 10 steps
 # Usage: golden.sh [--record] [SCENE...]   (--record rewrites hashes.txt: say why in the commit)
 # CTest runs one scene per test (tests/golden/golden.cmake; yade: skipped without the backend).
@@ -18,7 +20,7 @@ test_workdir golden
 record=0
 [[ ${1:-} == --record ]] && { record=1; shift; }
 scenes=("$@")
-((${#scenes[@]})) || scenes=(default elastic local yade)
+((${#scenes[@]})) || scenes=(default elastic local apic xpic yade)
 hashes=$src/tests/golden/hashes.txt
 failures=0
 for s in "${scenes[@]}"; do
@@ -27,6 +29,8 @@ for s in "${scenes[@]}"; do
     default) args+=("$src/configs/column_collapse_3d.yaml" --max-steps 3 --dem-ranks 2) ;;
     elastic) args+=("$src/configs/elastic_column_remote.yaml" --max-steps 200 --dem-ranks 1) ;;
     local) args+=("$src/configs/column_collapse_mc.yaml") ;;
+    apic) args+=("$src/configs/column_collapse_mc_apic.yaml" --max-steps 300) ;;
+    xpic) args+=("$src/tests/golden/column_xpic_musl.yaml" --max-steps 300) ;;
     yade)
       tiny_column_scene "$work/yade_scene.yaml"
       args+=("$work/yade_scene.yaml" --max-steps 10 --dem-ranks 2) ;;

@@ -77,7 +77,7 @@ mpmdem_test(NAME slurm_batch_dry_run COMMAND bash ${_it}/slurm_dry_run.sh
 # ---- Scenes end to end -------------------------------------------------------------------
 # Results bit for bit unchanged (tests/golden/golden.sh): each scene's physics hashed against
 # tests/golden/hashes.txt, recorded before changes that must not change results.
-foreach(_scene default elastic local)
+foreach(_scene default elastic local apic xpic)
   mpmdem_test(NAME golden_${_scene}_bitwise
               COMMAND bash ${PROJECT_SOURCE_DIR}/tests/golden/golden.sh ${_scene}
               TIMEOUT 240 LABELS integration no_asan SERIAL)

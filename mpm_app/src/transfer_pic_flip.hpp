@@ -1,0 +1,25 @@
+// PIC/FLIP (the schema's default transfer): v_target = sum N v_i, blended with the FLIP
+// update by the flip share. The rule's contract: transfer_rule.hpp.
+#pragma once
+
+#include "node_loops.hpp"
+#include "transfer_rule.hpp"
+
+namespace mpmdem::mpm {
+
+struct PicFlipRule {
+  static constexpr bool kAffine = false;
+
+  template <int W>
+  static void gather(const Grid& grid, const Stencil<W>& s, Particles&, std::size_t,
+                     const Vec3* v_free, G2PGather& g) {
+    detail::for_each_node(grid, s, [&](std::size_t i, double N, const Vec3&) {
+      g.v_pic += N * grid.v_i[i];
+      g.dv += N * (grid.v_i[i] - grid.v0_i[i]);
+      if (v_free) g.jump += N * (grid.v_i[i] - v_free[i]);
+    });
+    g.v_target = g.v_pic;
+  }
+};
+
+}  // namespace mpmdem::mpm

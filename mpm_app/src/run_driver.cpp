@@ -13,8 +13,7 @@
 #include <tuple>
 
 #include "analysis/column_collapse.hpp"
-#include "constitutive/drucker_prager.hpp"
-#include "constitutive/linear_elastic.hpp"
+#include "constitutive/model_registry.hpp"
 #include "constitutive/remote.hpp"
 #include "errors.hpp"
 #include "mpmdem/config/schema.hpp"
@@ -88,7 +87,7 @@ class Run {
         scene_.source_file.empty()
             ? std::string()
             : std::filesystem::absolute(scene_.source_file).lexically_normal().string();
-    sum.model = model_name(scene_.constitutive.model);
+    sum.model = scene_.constitutive.model;
     sum.program_version = MPMDEM_VERSION;
     sum.end_time_s = scene_.solver.end_time;
     sum.threads = omp_get_max_threads();
@@ -99,7 +98,7 @@ class Run {
       Particles particles = generate_particles(scene_);
       const std::size_t n = particles.size();
       sum.n_material_points = n;
-      if (opt_.provider_factory || scene_.constitutive.model != ModelKind::kRemote) {
+      if (opt_.provider_factory || !scene_.constitutive.is_remote()) {
         solver_ = std::make_unique<Solver>(scene_, std::move(particles), local_provider(n));
         create_directory();
       } else {
@@ -125,9 +124,7 @@ class Run {
 
   std::unique_ptr<ConstitutiveProvider> local_provider(std::size_t n) {
     if (opt_.provider_factory) return opt_.provider_factory(scene_, n);
-    if (scene_.constitutive.model == ModelKind::kDruckerPrager)
-      return make_drucker_prager(scene_.constitutive);
-    return make_linear_elastic(scene_.constitutive);
+    return local_model(scene_.constitutive.model).make(scene_.constitutive);
   }
 
   // Continue from a checkpoint in the existing run directory (outputs after it are redone).
@@ -149,7 +146,7 @@ class Run {
       result_.run_dir = dir_;
       sum.run_directory = dir_;
       const std::size_t n = state.n_slots;
-      auto provider = (opt_.provider_factory || scene_.constitutive.model != ModelKind::kRemote)
+      auto provider = (opt_.provider_factory || !scene_.constitutive.is_remote())
                           ? local_provider(n)
                           : make_remote_provider(scene_, n, dir_);
       solver_ = std::make_unique<Solver>(scene_, std::move(state), std::move(provider));
@@ -464,15 +461,13 @@ class Run {
         stop_reason(sum.status, column_ ? column_->end_reason(solver_->time()) : std::string());
     sum.stop.clear();
     if (column_) sum.stop = column_->stop_figures(sum.time_s, sum.steps);
-    if (scene_.constitutive.model == ModelKind::kRemote) {
+    if (scene_.constitutive.is_remote()) {
       for (const auto& kv : remote_figures(*solver_, rve_particles())) sum.analysis.push_back(kv);
-    } else if (scene_.constitutive.disconnection_volume_ratio > 0.0) {
-      // drucker_prager's disconnected state: point updates spent disconnected, and the
-      // points disconnected at the end.
-      sum.analysis.emplace_back("disconnected_point_updates",
-                                static_cast<double>(solver_->no_contact_updates()));
-      sum.analysis.emplace_back("disconnected_points_final",
-                                static_cast<double>(solver_->no_contact_points()));
+    } else if (const LocalModel* model = find_local_model(scene_.constitutive.model);
+               model && model->figures) {
+      for (const auto& kv : model->figures(scene_.constitutive, *solver_)) {
+        sum.analysis.push_back(kv);
+      }
     }
     if (checkpoints_ > 0) {  // this process's part of the run (a resumed one: since resuming)
       sum.analysis.emplace_back("checkpoints", static_cast<double>(checkpoints_));

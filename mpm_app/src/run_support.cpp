@@ -52,18 +52,6 @@ SignalGuard::~SignalGuard() {
   sigaction(SIGTERM, &old_term_, nullptr);
 }
 
-const char* model_name(ModelKind kind) {
-  switch (kind) {
-    case ModelKind::kRemote:
-      return "remote";
-    case ModelKind::kDruckerPrager:
-      return "drucker_prager";
-    case ModelKind::kLinearElastic:
-      break;
-  }
-  return "linear_elastic";
-}
-
 const char* verification_name(VerificationKind kind) {
   switch (kind) {
     case VerificationKind::kElasticColumn:

@@ -36,7 +36,6 @@ class SignalGuard {
   struct sigaction old_term_ {};
 };
 
-const char* model_name(ModelKind kind);
 const char* verification_name(VerificationKind kind);
 double total_mass(const Particles& p);
 // Sum of the node masses m_i (after a P2G: the mass the grid carries).

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -107,13 +108,25 @@ inline double flip_fraction(const SolverParams& sp, double dt) {
   return sp.flip_time_scale > 0.0 ? std::max(0.0, 1.0 - dt / sp.flip_time_scale) : sp.flip;
 }
 
-enum class ModelKind { kLinearElastic, kDruckerPrager, kRemote };
+// The constitutive model's name for `remote` (RVEs on dem_app); every other name is a local
+// model of the registry (constitutive/model_registry.hpp).
+inline constexpr const char* kRemoteModel = "remote";
 // How the Drucker-Prager cone is fitted to Mohr-Coulomb (constitutive/drucker_prager.hpp).
 enum class ConeMatching { kCompression, kPlaneStrain };
+// A local model's own parameters beyond the fields of ConstitutiveParams (a model registered
+// outside mpm_app's sources, e.g. in a test): its load hook sets them, its make hook reads
+// them (dynamic_cast to its own type).
+struct ModelParams {
+  virtual ~ModelParams() = default;
+};
 struct ConstitutiveParams {
-  ModelKind model = ModelKind::kLinearElastic;
-  double youngs_modulus = 1e7;  // linear_elastic and drucker_prager [Pa]
-  double poisson_ratio = 0.3;   // linear_elastic and drucker_prager [-]
+  // constitutive.model: a registered local model (mpm_app --list-models) or kRemoteModel.
+  std::string model = "linear_elastic";
+  bool is_remote() const { return model == kRemoteModel; }
+  // Every local model: the moduli of its elastic response, which the energy budget
+  // (1/2 sigma : C^-1 : sigma) and the elastic verifications use.
+  double youngs_modulus = 1e7;  // [Pa]
+  double poisson_ratio = 0.3;   // [-]
   // drucker_prager only:
   double friction_angle_deg = 30.0;  // Mohr-Coulomb friction angle phi [deg]
   double dilation_angle_deg = 0.0;   // psi, 0 <= psi <= phi [deg]
@@ -130,6 +143,8 @@ struct ConstitutiveParams {
   double mu_i_inertial_number_0 = 0.279;
   double mu_i_grain_diameter = 0.0;  // d [m]
   double mu_i_grain_density = 0.0;   // rho_s [kg/m3]
+  // Any other local model's parameters (null for the built-in ones).
+  std::shared_ptr<const ModelParams> own;
 };
 
 // The shared section both programs read (hashed in the handshake).

@@ -116,7 +116,7 @@ Solver::Solver(const Scene& scene, Particles particles,
   fill_if_empty(p_.stiffness, n, 0.0);
   fill_if_empty(p_.strain_energy, n, 0.0);
   fill_if_empty(p_.state, n, PointState::kOk);
-  if (scene_.constitutive.model == ModelKind::kRemote) {
+  if (scene_.constitutive.is_remote()) {
     const RveOutputs out = rve_outputs(scene_.coupling.outputs);
     if (out.rotation) p_.rotation.assign(n, Vec3::Zero());
     if (out.porosity) p_.porosity.assign(n, 0.0);
@@ -194,9 +194,10 @@ Solver::Solver(const Scene& scene, SolverState state,
 }
 
 void Solver::set_up_energy_law_and_mass_floor() {
-  if (scene_.constitutive.model != ModelKind::kRemote) {
-    // linear_elastic and drucker_prager: 1/2 sigma : C^-1 : sigma is the elastic strain energy
-    // of both (for perfect plasticity the elastic strain is C^-1 : sigma).
+  if (!scene_.constitutive.is_remote()) {
+    // A local model: 1/2 sigma : C^-1 : sigma with its elastic moduli is the elastic strain
+    // energy (of linear_elastic, and of drucker_prager: for perfect plasticity the elastic
+    // strain is C^-1 : sigma).
     law_ =
         elastic::ElasticLaw{scene_.constitutive.youngs_modulus, scene_.constitutive.poisson_ratio};
   }
@@ -264,7 +265,7 @@ void Solver::step() {
   // Remote model: a peer fault in the exchange must not leave step n+1 positions with step
   // n stresses. Time, step and the energy budget change only once the step succeeded; the
   // points are copied (reusing the copy's memory) and restored if the step throws.
-  const bool restorable = scene_.constitutive.model == ModelKind::kRemote;
+  const bool restorable = scene_.constitutive.is_remote();
   if (restorable) copy_points(p_, step_start_);
   const std::int64_t before = step_;
   try {

@@ -242,7 +242,7 @@ class FailingProvider : public ConstitutiveProvider {
 // checkpoint. Now the solver's state after the fault is exactly that after step n.
 TEST(FaultState, FailedExchangeLeavesTheLastCompletedStep) {
   Scene s = load_scene(std::string(MPMDEM_SOURCE_DIR) + "/configs/elastic_column.yaml");
-  s.constitutive.model = ModelKind::kRemote;  // points restorable, as with a DEM server
+  s.constitutive.model = kRemoteModel;  // points restorable, as with a DEM server
   s.coupling.outputs = 0;
   Solver failing(s, generate_particles(s), std::make_unique<FailingProvider>(s.constitutive, 3));
   Solver reference(s, generate_particles(s), std::make_unique<FailingProvider>(s.constitutive, -1));

@@ -195,7 +195,7 @@ TEST(ConfigDefaults, AppliedWhereAbsentAndOverriddenWhereGiven) {
   EXPECT_DOUBLE_EQ(s.solver.local_damping, 0.0);
   EXPECT_EQ(s.solver.on_exit, mpmdem::mpm::OnExit::kError);
   EXPECT_EQ(s.solver.threads, 0);
-  EXPECT_EQ(s.constitutive.model, mpmdem::mpm::ModelKind::kLinearElastic);
+  EXPECT_EQ(s.constitutive.model, "linear_elastic");
   EXPECT_DOUBLE_EQ(s.constitutive.youngs_modulus, 1e6);
   EXPECT_DOUBLE_EQ(s.constitutive.poisson_ratio, 0.25);
   EXPECT_EQ(s.coupling.backend, "elastic");

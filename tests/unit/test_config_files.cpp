@@ -183,7 +183,7 @@ TEST(ShippedConfigs, ElasticColumnAndBarAreTheDocumentedProblems) {
   EXPECT_GT(col.solver.end_time, 10 * T);
   // The remote column is the same problem with the stub's material equal to the local one.
   const Scene rem = load_scene(dir + "/elastic_column_remote.yaml");
-  EXPECT_EQ(rem.constitutive.model, ModelKind::kRemote);
+  EXPECT_EQ(rem.constitutive.model, kRemoteModel);
   EXPECT_EQ(rem.coupling.backend, "elastic");
   const Config rc =
       Config::load(dir + "/elastic_column_remote.yaml", mpmdem::coupling_schema(), "coupling");

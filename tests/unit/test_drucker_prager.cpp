@@ -32,7 +32,7 @@ constexpr double kPi = 3.14159265358979323846;
 ConstitutiveParams dp_params(double phi_deg, double psi_deg = 0.0, double c = 0.0,
                              ConeMatching matching = ConeMatching::kCompression) {
   ConstitutiveParams p;
-  p.model = ModelKind::kDruckerPrager;
+  p.model = "drucker_prager";
   p.youngs_modulus = 1.0e7;
   p.poisson_ratio = 0.3;
   p.friction_angle_deg = phi_deg;
@@ -527,7 +527,7 @@ TEST(DruckerPragerConfig, KeysDefaultsAndChecks) {
                                                          "    youngs_modulus: 2e6\n"
                                                          "    poisson_ratio: 0.25\n"
                                                          "    friction_angle_deg: 22\n")));
-  EXPECT_EQ(a.constitutive.model, ModelKind::kDruckerPrager);
+  EXPECT_EQ(a.constitutive.model, "drucker_prager");
   EXPECT_EQ(a.constitutive.youngs_modulus, 2e6);
   EXPECT_EQ(a.constitutive.poisson_ratio, 0.25);
   EXPECT_EQ(a.constitutive.friction_angle_deg, 22.0);

@@ -24,7 +24,7 @@ constexpr double kD = 2.3e-3, kRhoS = 2500.0, kI0 = 0.279;
 
 ConstitutiveParams mu_i_params(double phi_deg, double phi_2_deg, double c = 0.0) {
   ConstitutiveParams p;
-  p.model = ModelKind::kDruckerPrager;
+  p.model = "drucker_prager";
   p.youngs_modulus = 1.0e9;
   p.poisson_ratio = 0.3;
   p.friction_angle_deg = phi_deg;

@@ -159,7 +159,7 @@ TEST(StateGuard, NamesTheFirstPointAndTheField) {
 // the run at that step, naming the point; nothing non-finite is written anywhere.
 TEST(StateGuard, InjectedNaNStopsTheRunBeforeAnyOutputHoldsIt) {
   Scene scene = column(0.05, 0.0);
-  scene.constitutive.model = ModelKind::kRemote;  // the points carry RVE outputs
+  scene.constitutive.model = kRemoteModel;  // the points carry RVE outputs
   scene.coupling.outputs = mpmdem::protocol::kOutputPorosity;
   scene.output.interval = 1e-4;  // a frame about every step up to the fault
   scene.output.checkpoint_interval_steps = 2;

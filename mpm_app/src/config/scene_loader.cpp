@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "config/scene_rules.hpp"
+#include "constitutive/model_registry.hpp"
 #include "mpmdem/config_hash.hpp"
 #include "mpmdem/coupling_keys.hpp"
 
@@ -234,69 +235,37 @@ SolverParams load_solver(const Config& cfg, double cell_size) {
   return s;
 }
 
+// constitutive.model and, for a local model, its section (read by the model's load hook).
 ConstitutiveParams load_constitutive(const Config& cfg) {
   ConstitutiveParams c;
-  if (cfg.string("constitutive.model") == "remote") {
-    c.model = ModelKind::kRemote;
+  c.model = cfg.string("constitutive.model");
+  if (c.is_remote()) {
     if (!cfg.has("coupling")) {
       cfg.fail("constitutive.model",
                "is remote but the file has no coupling: section (backend, outputs, ...); "
                "add one, see docs/configuration.md");
     }
-  } else if (cfg.string("constitutive.model") == "drucker_prager") {
-    c.model = ModelKind::kDruckerPrager;
-    if (!cfg.has("constitutive.drucker_prager")) {
-      cfg.fail("constitutive.model",
-               "is drucker_prager but the section constitutive.drucker_prager "
-               "(youngs_modulus, poisson_ratio, friction_angle_deg, ...) is missing");
-    }
-    c.youngs_modulus = cfg.number("constitutive.drucker_prager.youngs_modulus");
-    c.poisson_ratio = cfg.number("constitutive.drucker_prager.poisson_ratio");
-    c.friction_angle_deg = cfg.number("constitutive.drucker_prager.friction_angle_deg");
-    c.dilation_angle_deg = cfg.number("constitutive.drucker_prager.dilation_angle_deg");
-    c.cohesion = cfg.number("constitutive.drucker_prager.cohesion");
-    c.disconnection_volume_ratio =
-        cfg.number("constitutive.drucker_prager.disconnection_volume_ratio");
-    if (c.disconnection_volume_ratio > 0.0 && c.disconnection_volume_ratio <= 1.0) {
-      cfg.fail("constitutive.drucker_prager.disconnection_volume_ratio",
-               config::format_number(c.disconnection_volume_ratio) +
-                   " would disconnect points at or below their initial volume; give a ratio "
-                   "above 1 (e.g. 1.5) or 0 (never)");
-    }
-    c.matching = cfg.string("constitutive.drucker_prager.matching") == "plane_strain"
-                     ? ConeMatching::kPlaneStrain
-                     : ConeMatching::kCompression;
-    if (cfg.has("constitutive.drucker_prager.mu_i")) {
-      c.mu_i_friction_angle_2_deg =
-          cfg.number("constitutive.drucker_prager.mu_i.friction_angle_2_deg");
-      c.mu_i_inertial_number_0 = cfg.number("constitutive.drucker_prager.mu_i.inertial_number_0");
-      c.mu_i_grain_diameter = cfg.number("constitutive.drucker_prager.mu_i.grain_diameter");
-      c.mu_i_grain_density = cfg.number("constitutive.drucker_prager.mu_i.grain_density");
-      if (!(c.mu_i_friction_angle_2_deg > c.friction_angle_deg)) {
-        cfg.fail("constitutive.drucker_prager.mu_i.friction_angle_2_deg",
-                 config::format_number(c.mu_i_friction_angle_2_deg) +
-                     " is not above friction_angle_deg " +
-                     config::format_number(c.friction_angle_deg) +
-                     "; mu(I) needs the limit angle above the angle at rest (or drop the "
-                     "mu_i section for a rate-independent law)");
-      }
-    }
-    if (c.dilation_angle_deg > c.friction_angle_deg) {
-      cfg.fail("constitutive.drucker_prager.dilation_angle_deg",
-               config::format_number(c.dilation_angle_deg) + " is larger than friction_angle_deg " +
-                   config::format_number(c.friction_angle_deg) +
-                   "; the dilation angle must not exceed the friction angle");
-    }
-  } else {
-    c.model = ModelKind::kLinearElastic;
-    if (!cfg.has("constitutive.linear_elastic")) {
-      cfg.fail("constitutive.model",
-               "is linear_elastic but the section constitutive.linear_elastic "
-               "(youngs_modulus, poisson_ratio) is missing");
-    }
-    c.youngs_modulus = cfg.number("constitutive.linear_elastic.youngs_modulus");
-    c.poisson_ratio = cfg.number("constitutive.linear_elastic.poisson_ratio");
+    return c;
   }
+  const LocalModel& model = local_model(c.model);  // the schema admits registered names only
+  const std::string section = "constitutive." + model.name;
+  if (!cfg.has(section)) {
+    // "(youngs_modulus, poisson_ratio, friction_angle_deg, ...)": the required keys, and
+    // "..." when there are others.
+    std::string keys;
+    bool more = false;
+    for (const config::KeySpec* k : scene_schema().children(section)) {
+      if (!k->required) {
+        more = true;
+        continue;
+      }
+      keys += (keys.empty() ? "" : ", ") + k->path.substr(section.size() + 1);
+    }
+    if (more) keys += keys.empty() ? "..." : ", ...";
+    cfg.fail("constitutive.model",
+             "is " + model.name + " but the section " + section + " (" + keys + ") is missing");
+  }
+  model.load(cfg, section, c);
   return c;
 }
 
@@ -326,7 +295,7 @@ OutputParams load_output(const Config& cfg) {
   o.vtk = cfg.boolean("output.vtk");
   o.hdf5 = cfg.boolean("output.hdf5");
   o.rve_costs = cfg.boolean("output.rve_costs");
-  if (o.rve_costs && cfg.string("constitutive.model") != "remote") {
+  if (o.rve_costs && cfg.string("constitutive.model") != kRemoteModel) {
     cfg.fail("output.rve_costs", "is true but constitutive.model is '" +
                                      cfg.string("constitutive.model") +
                                      "': RVE costs exist only with the remote model");

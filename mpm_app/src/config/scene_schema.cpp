@@ -2,6 +2,7 @@
 // range). `mpm_app --print-config-reference` prints it; docs/configuration.md explains it.
 // SI units throughout. Keys map 1:1 onto the structs of scene.hpp.
 #include "config/scene_loader.hpp"
+#include "constitutive/model_registry.hpp"
 #include "mpmdem/coupling_keys.hpp"
 
 namespace mpmdem::mpm {
@@ -200,84 +201,7 @@ void add_solver_keys(config::Schema& s) {
 
 void add_constitutive_keys(config::Schema& s) {
   s.add(key("constitutive", Type::kMap, "", "stress at the material points").req());
-  s.add(key("constitutive.model", Type::kEnum, "",
-            "linear_elastic or drucker_prager (in-process) or remote (RVEs on dem_app; needs "
-            "coupling:)")
-            .def("linear_elastic")
-            .one_of({"linear_elastic", "drucker_prager", "remote"}));
-  s.add(key("constitutive.linear_elastic", Type::kMap, "",
-            "isotropic linear elasticity with an objective update (model linear_elastic)"));
-  s.add(key("constitutive.linear_elastic.youngs_modulus", Type::kDouble, "Pa", "Young's modulus E")
-            .req()
-            .gt(0));
-  s.add(key("constitutive.linear_elastic.poisson_ratio", Type::kDouble, "-", "Poisson's ratio nu")
-            .req()
-            .ge(0)
-            .lt(0.5));
-  s.add(key("constitutive.drucker_prager", Type::kMap, "",
-            "elastic-perfectly plastic Drucker-Prager cone fitted to Mohr-Coulomb, "
-            "non-associated, with the objective update of linear_elastic (model drucker_prager)"));
-  s.add(key("constitutive.drucker_prager.youngs_modulus", Type::kDouble, "Pa", "Young's modulus E")
-            .req()
-            .gt(0));
-  s.add(key("constitutive.drucker_prager.poisson_ratio", Type::kDouble, "-", "Poisson's ratio nu")
-            .req()
-            .ge(0)
-            .lt(0.5));
-  s.add(key("constitutive.drucker_prager.friction_angle_deg", Type::kDouble, "deg",
-            "Mohr-Coulomb friction angle phi")
-            .req()
-            .gt(0)
-            .lt(90));
-  s.add(key("constitutive.drucker_prager.dilation_angle_deg", Type::kDouble, "deg",
-            "dilation angle psi, at most friction_angle_deg; 0: plastic flow keeps the volume")
-            .def("0")
-            .ge(0)
-            .lt(90));
-  s.add(key("constitutive.drucker_prager.cohesion", Type::kDouble, "Pa",
-            "Mohr-Coulomb cohesion c; the cone's apex at p = -c cot(phi) is the tension "
-            "cutoff (0: no tension)")
-            .def("0")
-            .ge(0));
-  s.add(key("constitutive.drucker_prager.matching", Type::kEnum, "",
-            "compression: the cone through Mohr-Coulomb's triaxial-compression corners, q/p = "
-            "6 sin(phi)/(3 - sin(phi)); plane_strain: the same plane-strain limit load as "
-            "Mohr-Coulomb")
-            .def("compression")
-            .one_of({"compression", "plane_strain"}));
-  s.add(key("constitutive.drucker_prager.disconnection_volume_ratio", Type::kDouble, "-",
-            "J_c > 1: a point whose volume exceeds J_c times its initial volume is "
-            "disconnected (the granular state below the critical density of Dunatunga & "
-            "Kamrin 2015): no stress and no stiffness, reported as no contacts, and no affine "
-            "velocity with transfer apic; compacted below J_c it reconnects from zero stress. "
-            "0: never (docs/transfers.md, \"The disconnected state\")")
-            .def("0")
-            .ge(0));
-  s.add(key("constitutive.drucker_prager.mu_i", Type::kMap, "",
-            "optional: the mu(I) rheology (Jop, Forterre & Pouliquen 2006). The cone's slope "
-            "grows from that of friction_angle_deg to that of friction_angle_2_deg with the "
-            "inertial number I = gamma_dot_p d / sqrt(p / rho_s) of the plastic shear rate: "
-            "eta(I) = eta_s + (eta_2 - eta_s) I / (I_0 + I). Absent: rate independent "
-            "(docs/configuration.md)"));
-  s.add(key("constitutive.drucker_prager.mu_i.friction_angle_2_deg", Type::kDouble, "deg",
-            "friction angle phi_2 of the limit I >> I_0, above friction_angle_deg (with "
-            "plane_strain matching and no dilation, mu = sqrt(J2)/p = sin(phi))")
-            .req()
-            .gt(0)
-            .lt(90));
-  s.add(key("constitutive.drucker_prager.mu_i.inertial_number_0", Type::kDouble, "-",
-            "I_0, the inertial number at which the slope is halfway from eta_s to eta_2 "
-            "(0.279 for the glass beads of Jop et al. 2006)")
-            .def("0.279")
-            .gt(0));
-  s.add(key("constitutive.drucker_prager.mu_i.grain_diameter", Type::kDouble, "m",
-            "grain diameter d in the inertial number")
-            .req()
-            .gt(0));
-  s.add(key("constitutive.drucker_prager.mu_i.grain_density", Type::kDouble, "kg/m3",
-            "density of the grains' solid rho_s in the inertial number (not the bulk density)")
-            .req()
-            .gt(0));
+  add_constitutive_model_keys(s);  // constitutive.model and each local model's section
 }
 
 void add_output_keys(config::Schema& s) {

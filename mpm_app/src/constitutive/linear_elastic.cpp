@@ -1,10 +1,11 @@
 #include "constitutive/linear_elastic.hpp"
-#include "parallel.hpp"
 
 #include <stdexcept>
 #include <string>
 
+#include "constitutive/model_registry.hpp"
 #include "mpmdem/laws/elastic_law.hpp"
+#include "parallel.hpp"
 
 namespace mpmdem::mpm {
 
@@ -71,5 +72,14 @@ std::unique_ptr<ConstitutiveProvider> make_linear_elastic(const ConstitutivePara
   }
   return std::make_unique<LinearElasticProvider>(elastic::ElasticLaw{E, nu});
 }
+
+namespace {
+
+// The model `linear_elastic` (model_registry.hpp): the section holds the moduli only.
+[[maybe_unused]] const bool registered =
+    register_local_model({"linear_elastic", "isotropic linear elasticity with an objective update",
+                          add_elastic_moduli_keys, load_elastic_moduli, make_linear_elastic});
+
+}  // namespace
 
 }  // namespace mpmdem::mpm

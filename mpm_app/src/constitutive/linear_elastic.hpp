@@ -9,7 +9,7 @@
 
 namespace mpmdem::mpm {
 
-// Reads youngs_modulus and poisson_ratio of params (model must be kLinearElastic).
+// Reads youngs_modulus and poisson_ratio of params (whatever params.model says).
 std::unique_ptr<ConstitutiveProvider> make_linear_elastic(const ConstitutiveParams& params);
 
 }  // namespace mpmdem::mpm

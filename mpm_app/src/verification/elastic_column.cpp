@@ -37,7 +37,7 @@ ElasticModuli scene_elastic_moduli(const Scene& scene) {
   ElasticModuli m;
   m.E = scene.constitutive.youngs_modulus;
   m.nu = scene.constitutive.poisson_ratio;
-  if (scene.constitutive.model == ModelKind::kRemote && scene.coupling.backend != "elastic") {
+  if (scene.constitutive.is_remote() && scene.coupling.backend != "elastic") {
     throw SceneError("verification.kind",
                      std::string(run_support::verification_name(scene.verification.kind)) +
                          " compares with linear elasticity, but the remote model's "
@@ -46,7 +46,7 @@ ElasticModuli scene_elastic_moduli(const Scene& scene) {
                          ", whose moduli are not known in closed form: use coupling.backend "
                          "elastic, or verification.kind none");
   }
-  if (scene.constitutive.model == ModelKind::kRemote && !remote_elastic(scene, m.E, m.nu)) {
+  if (scene.constitutive.is_remote() && !remote_elastic(scene, m.E, m.nu)) {
     throw SceneError("coupling.backend",
                      "is elastic but the section coupling.elastic (youngs_modulus, "
                      "poisson_ratio) is missing or incomplete: " +

@@ -26,7 +26,7 @@
 namespace mpmdem::mpm {
 
 // Constrained (P-wave) modulus M and Young's modulus E of the elastic material the scene
-// uses: constitutive.linear_elastic (or .drucker_prager), or coupling.elastic when the
+// uses: a local model's elastic moduli (ConstitutiveParams), or coupling.elastic when the
 // model is remote, which needs coupling.backend elastic (SceneError naming
 // verification.kind otherwise: a DEM backend has no closed-form moduli).
 struct ElasticModuli {

@@ -213,3 +213,10 @@ mpmdem_test(NAME rve_mu_i_study_steps COMMAND bash ${_it}/rve_mu_i.sh steps
             TIMEOUT 60 LABELS integration no_asan)
 mpmdem_test(NAME rve_mu_i_study_run NEEDS yade COMMAND bash ${_it}/rve_mu_i.sh run
             TIMEOUT 300 LABELS integration no_asan SERIAL)
+
+# ---- The programs' listings --------------------------------------------------------------
+# mpm_app --list-models prints every registered local model and remote (the registry survives
+# the link: mpm_core is an OBJECT library), dem_app --list-backends the backends built in.
+mpmdem_test(NAME programs_list_models_and_backends
+  COMMAND bash ${_it}/program_listings.sh $<TARGET_FILE:mpm_app> $<TARGET_FILE:dem_app>
+  TIMEOUT 30 LABELS integration)

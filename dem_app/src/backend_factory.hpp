@@ -1,6 +1,6 @@
-// Creating a backend by name (dem_app --backend NAME): elastic, native and cuda (its host
-// batch path always; its GPU kernel with MPMDEM_HAVE_CUDA) always, yade when built with
-// MPMDEM_HAVE_YADE.
+// Creating a backend of the catalog (backend_catalog.hpp) by name (dem_app --backend NAME):
+// elastic, native and cuda (its host batch path always; its GPU kernel with
+// MPMDEM_HAVE_CUDA) always, yade when built with MPMDEM_HAVE_YADE.
 #pragma once
 
 #include <cstdint>
@@ -13,7 +13,8 @@
 
 namespace mpmdem::dem {
 
-// Backend names this build offers, e.g. {"elastic", "yade"}.
+// The catalog's backends this build offers, in the catalog's order, e.g. {"elastic", "native",
+// "cuda"}.
 std::vector<std::string> available_backends();
 // coupling.backend of `cfg` is one of available_backends(); throws config::ConfigError
 // naming the key and the backends of this build. (What each backend computes:

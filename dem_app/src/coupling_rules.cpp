@@ -8,6 +8,7 @@
 #include <system_error>
 #include <vector>
 
+#include "backend_catalog.hpp"
 #include "coupling_schema.hpp"
 #include "mpmdem/protocol.hpp"
 
@@ -26,8 +27,8 @@ std::string list_text(const std::vector<std::string>& items) {
 namespace dem {
 
 std::uint32_t backend_outputs(const std::string& name) {
-  if (name == "yade" || name == "native" || name == "cuda") return protocol::kKnownOutputs;
-  return 0;  // elastic (see backends/elastic_backend.hpp), or an unknown name
+  const BackendSpec* b = find_backend(name);
+  return b ? b->outputs : 0;
 }
 
 }  // namespace dem
@@ -158,13 +159,8 @@ void check_no_yade_consolidation_cache(const config::Config& cfg) {
 }
 
 void check_coupling(const config::Config& cfg) {
-  check_elastic_section(cfg);
   check_outputs_provided(cfg);
-  const std::string backend = cfg.string("coupling.backend");
-  if (backend == "yade" || backend == "native") check_rve_backend(cfg, backend);
-  if (backend == "cuda") check_rve_backend(cfg, "native");  // its physics keys
-  check_no_yade_consolidation_cache(cfg);
-  check_cuda_contact_law(cfg);
+  if (const dem::BackendSpec* b = dem::find_backend(cfg.string("coupling.backend"))) b->check(cfg);
 }
 
 }  // namespace mpmdem

@@ -16,13 +16,13 @@
 namespace mpmdem {
 
 namespace dem {
-// protocol::OutputBits the named backend computes (the server advertises them in its Hello;
-// the handshake refuses a client asking for more): every output for the DEM backends, none
-// for the elastic stub (a continuum point has no rotation, porosity, ...).
+// protocol::OutputBits the named backend computes (backend_catalog.hpp; the server advertises
+// them in its Hello; the handshake refuses a client asking for more): every output for the
+// DEM backends, none for the elastic stub (a continuum point has no rotation, porosity, ...).
 std::uint32_t backend_outputs(const std::string& name);
 }  // namespace dem
 
-// Every rule below for the scene's coupling.backend.
+// The outputs rule and the rules of the scene's coupling.backend (its BackendSpec::check).
 void check_coupling(const config::Config& cfg);
 
 // coupling.backend elastic needs the section coupling.elastic (its moduli).

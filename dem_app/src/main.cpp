@@ -10,7 +10,8 @@
 //   dem_app --print-port-file FILE   coupling.port_file of a scene (no MPI; for scripts/run)
 //   dem_app --print-config-hash FILE the Hello's config_hash (16 hex digits) and the canonical
 //                                    coupling text it hashes (no MPI; docs/protocol.md)
-//   dem_app --list-backends          the backends built into this dem_app, one per line
+//   dem_app --list-backends [--long] the backends built into this dem_app, one per line
+//                                    (--long: with what each one is)
 //   dem_app --print-config-reference every key of the coupling: section (markdown tables)
 //
 // Exit codes: 0 after an orderly shutdown, 2 config/command-line error, 3 handshake
@@ -25,6 +26,7 @@
 #include <optional>
 #include <string>
 
+#include "backend_catalog.hpp"
 #include "backend_factory.hpp"
 #include "coupling_rules.hpp"
 #include "coupling_schema.hpp"
@@ -55,7 +57,7 @@ constexpr const char* kUsage =
     "       dem_app --print-config-hash FILE  print the config hash this server would send\n"
     "              in its Hello (16 hex digits) and, on line 2, the canonical coupling text\n"
     "              it hashes (docs/protocol.md), and exit\n"
-    "       dem_app --list-backends        print the backends built into this dem_app\n"
+    "       dem_app --list-backends [--long]  print the backends built into this dem_app\n"
     "       dem_app --print-config-reference  every key of coupling: (markdown tables)\n"
     "Run under mpirun with the same --ompi-server file:URI as mpm_app (see docs/protocol.md).\n";
 
@@ -215,8 +217,17 @@ int print_config_hash(const std::string& file) {
 }
 
 int main(int argc, char** argv) {
-  if (argc == 2 && std::string(argv[1]) == "--list-backends") {
-    for (const auto& name : mpmdem::dem::available_backends()) std::cout << name << "\n";
+  if ((argc == 2 || argc == 3) && std::string(argv[1]) == "--list-backends") {
+    const bool long_form = argc == 3 && std::string(argv[2]) == "--long";
+    if (argc == 3 && !long_form) {
+      std::cerr << "dem_app: --list-backends takes only --long\n";
+      return mpmdem::kExitConfigError;
+    }
+    for (const auto& name : mpmdem::dem::available_backends()) {
+      std::cout << name;
+      if (long_form) std::cout << "  " << mpmdem::dem::find_backend(name)->summary;
+      std::cout << "\n";
+    }
     return 0;
   }
   if (argc == 2 && std::string(argv[1]) == "--print-config-reference") {

@@ -5,10 +5,13 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
+#include "backend_catalog.hpp"
+#include "backend_factory.hpp"
 #include "config_test_support.hpp"
 #include "coupling_rules.hpp"
 
@@ -179,4 +182,34 @@ TEST(CouplingRules, ContactLawAndRestitution) {
   EXPECT_CONTAINS(cuda,
                   "coupling.native.contact_law frict_visco is not available with backend "
                   "cuda");
+}
+
+// The backends by name (backend_catalog.hpp): every row declares its section and its rules,
+// the schema's coupling.backend takes exactly the catalog's names, and every backend built
+// into this dem_app is a row of it (elastic, native and cuda always).
+TEST(BackendCatalog, EveryBackendDeclaresItsSectionRulesAndOutputs) {
+  const auto& schema = mpmdem::coupling_schema();
+  std::vector<std::string> names;
+  for (const mpmdem::dem::BackendSpec& b : mpmdem::dem::backend_catalog()) {
+    SCOPED_TRACE(b.name);
+    names.push_back(b.name);
+    ASSERT_NE(b.add_keys, nullptr);
+    ASSERT_NE(b.check, nullptr);
+    EXPECT_FALSE(b.summary.empty());
+    const auto* section = schema.find("coupling." + b.name);
+    ASSERT_NE(section, nullptr);
+    EXPECT_EQ(section->type, mpmdem::config::Type::kMap);
+    EXPECT_EQ(mpmdem::dem::backend_outputs(b.name), b.outputs);
+  }
+  EXPECT_EQ(names, (std::vector<std::string>{"elastic", "yade", "native", "cuda"}));
+  EXPECT_EQ(schema.find("coupling.backend")->choices, names);
+  for (const std::string& built : mpmdem::dem::available_backends()) {
+    EXPECT_NE(mpmdem::dem::find_backend(built), nullptr) << built;
+  }
+  for (const char* always : {"elastic", "native", "cuda"}) {
+    const auto built = mpmdem::dem::available_backends();
+    EXPECT_NE(std::find(built.begin(), built.end(), always), built.end()) << always;
+  }
+  EXPECT_EQ(mpmdem::dem::find_backend("gpu"), nullptr);
+  EXPECT_EQ(mpmdem::dem::backend_outputs("gpu"), 0u);
 }

@@ -42,6 +42,7 @@
 #include <vector>
 
 #include "analysis/at_rest.hpp"
+#include "analysis/column_state.hpp"
 #include "particles.hpp"
 #include "scene.hpp"
 
@@ -82,15 +83,6 @@ DepositShape measure_deposit(const ColumnGeometry& g, const Particles& p);
 
 // Potential energy measured from the column's base.
 double potential_energy_above_base(const ColumnGeometry& g, const Particles& p);
-
-// The monitor's state in a checkpoint.
-struct ColumnState {
-  std::optional<double> release_time;  // start of stage 2
-  double E_p0_release = 0.0;
-  std::vector<char> snapshots_done;
-  std::optional<double> rest_quiet_since;  // the at-rest detector's, in stage-2 time
-  std::optional<double> rest_time;
-};
 
 // Follows a run: release time, E_p0 at release, snapshot and end times.
 class ColumnCollapseMonitor {

@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "analysis/column_collapse.hpp"
+#include "analysis/column_state.hpp"
 #include "solver.hpp"
 
 namespace mpmdem::mpm {

@@ -2,14 +2,17 @@
 grid_convergence_study): run one generated scene with mpm_app on one thread and collect its
 figures."""
 import csv
-import json
-import math
 import os
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import yaml
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))  # scripts/: mpmdem_tools
+from mpmdem_tools.convergence import richardson  # noqa: E402,F401  (the one copy, re-exported)
+from mpmdem_tools.summary import read_summary  # noqa: E402
 
 
 # The solver keys that set the PIC/FLIP blend's share; a scene sets at most one of them.
@@ -43,8 +46,7 @@ def run_column(app, cfg, out, name, study):
                        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     if r.returncode != 0:
         sys.exit(f"{study}: {name} failed (exit {r.returncode}):\n{r.stderr[-2000:]}")
-    with open(os.path.join(run, "summary.json")) as f:
-        s = json.load(f)
+    s = read_summary(run)
     with open(os.path.join(run, "energies.csv")) as f:
         last = list(csv.DictReader(f))[-1]
     released = float(last["E_p0"]) - float(last["E_p"])
@@ -66,26 +68,6 @@ def has_mu_i(cfg):
     """True when the scene `cfg` gives its Drucker-Prager law the mu(I) rheology
     (constitutive.drucker_prager.mu_i)."""
     return bool(drucker_prager(cfg).get("mu_i"))
-
-
-def richardson(f, ratio=2.0, safety=1.25):
-    """Richardson analysis of a figure on three grids refined by `ratio`, f = [coarse, medium,
-    fine]. Returns a dict: kind "converging" with p (observed order), extrapolated and gci
-    (Roache's grid convergence index of the fine grid, a fraction); "oscillatory" when the two
-    differences differ in sign; "slow" (with p) when p < 0.5 (diverging or not asymptotic);
-    "exact" when the fine and medium values are equal."""
-    f3, f2, f1 = f
-    e21, e32 = f2 - f1, f3 - f2
-    if e21 == 0.0:
-        return {"kind": "exact"}
-    if e21 * e32 < 0:
-        return {"kind": "oscillatory"}
-    p = math.log(abs(e32 / e21)) / math.log(ratio)
-    if p < 0.5:
-        return {"kind": "slow", "p": p}
-    d = ratio ** p - 1.0
-    return {"kind": "converging", "p": p, "extrapolated": f1 + (f1 - f2) / d,
-            "gci": safety * abs(e21 / f1) / d}
 
 
 def linear_fit(x, y):

@@ -20,6 +20,8 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import element_test as et  # noqa: E402  (analyse, summarise, read_csv)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))  # scripts/
+from mpmdem_tools.summary import read_summary  # noqa: E402  (the one summary.json reader)
 
 STYLE = ({"color": "tab:blue", "lw": 1.3}, {"color": "tab:red", "lw": 1.0, "ls": "--"})
 
@@ -27,8 +29,7 @@ STYLE = ({"color": "tab:blue", "lw": 1.3}, {"color": "tab:red", "lw": 1.0, "ls":
 def load(folder):
     with open(os.path.join(folder, "plan.json")) as f:
         plan = json.load(f)
-    with open(os.path.join(folder, "summary.json")) as f:
-        summary = json.load(f)
+    summary = read_summary(folder)
     series = {}
     for t in plan["tests"]:
         csv = os.path.join(folder, t["path"] + ".csv")

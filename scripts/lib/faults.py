@@ -20,6 +20,9 @@ import json
 import os
 import sys
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))  # scripts/
+from mpmdem_tools.summary import read_summary  # noqa: E402  (the one summary.json reader)
+
 
 def newest_complete(run):
     best = None
@@ -45,7 +48,7 @@ def save(run, faults):
 
 def record(run):
     summary = os.path.join(run, "summary.json")
-    s = json.load(open(summary)) if os.path.exists(summary) else {}
+    s = read_summary(summary) if os.path.exists(summary) else {}
     fault = s.get("peer_fault")
     if s.get("status") != "failed" or not fault:
         print("run: --on-fault resume: the run did not fail by a lost DEM rank (%s): not resuming"
@@ -98,7 +101,7 @@ def merge(run):
     summary = os.path.join(run, "summary.json")
     if not os.path.exists(summary):
         return 0
-    s = json.load(open(summary))
+    s = read_summary(summary)
     s["faults"] = load(run)
     with open(summary + ".tmp", "w") as f:
         json.dump(s, f, indent=2)

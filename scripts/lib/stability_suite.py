@@ -38,6 +38,9 @@ import yaml
 
 from stability_outputs import energy_error, last_frame, max_velocity, non_finite_files
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))  # scripts/
+from mpmdem_tools.summary import read_summary  # noqa: E402  (the one summary.json reader)
+
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 CFG = os.path.join(ROOT, "configs", "stability")
 G = 9.81
@@ -202,7 +205,7 @@ def mpm_case(case, out, env, timeout):
              os.path.join(out, case["name"] + ".log"), timeout, env)
     r = {"rc": rc, "wall_s": time.time() - t0}
     summ_path = os.path.join(run_dir, "summary.json")
-    summ = json.load(open(summ_path)) if os.path.exists(summ_path) else {}
+    summ = read_summary(summ_path) if os.path.exists(summ_path) else {}
     r["status"] = summ.get("status", "no summary")
     r["steps"] = summ.get("steps")
     r["time_s"] = summ.get("time_s")
@@ -284,7 +287,7 @@ def element_case_run(case, out, env, timeout):
     r["steps"] = max((int(float(x["step"])) for x in rows), default=0)
     fatal = any(st in (2, 3, 4) for st in statuses)
     summ_path = os.path.join(run_dir, "summary.json")
-    summ = json.load(open(summ_path)) if os.path.exists(summ_path) else {}
+    summ = read_summary(summ_path) if os.path.exists(summ_path) else {}
     tri = (summ.get("tests") or {}).get("triaxial", {}) if isinstance(summ.get("tests"), dict) else {}
     r["porosity_initial"] = summ.get("porosity_initial")
     r["phi_peak_deg"] = tri.get("phi_peak_deg", summ.get("phi_peak_deg"))

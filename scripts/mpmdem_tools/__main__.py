@@ -39,7 +39,10 @@ STUDIES = {
 
 
 def usage(code):
-    print(__doc__.strip(), file=sys.stderr if code else sys.stdout)
+    try:
+        print(__doc__.strip(), file=sys.stderr if code else sys.stdout)
+    except BrokenPipeError:  # e.g. --help | head
+        pass
     return code
 
 

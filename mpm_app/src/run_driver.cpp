@@ -63,6 +63,7 @@ class Run {
     ctx_.emplace(RunContext{scene_, dir_, *solver_, out_, err_, [this] { return wall_time(); },
                             [this] { return expected_end_time(); }});
     ctx_->resumed = !resume_dir_.empty();
+    ctx_->status = status_;
     SignalGuard signals(opt_.handle_signals);
     try {
       make_observers();
@@ -307,13 +308,14 @@ class Run {
       if (!fault_dir.empty()) msg << "; mpm_app's own state at the fault: " << fault_dir;
       const std::string last = latest_checkpoint(dir_);
       if (const auto* lost = dynamic_cast<const PeerLost*>(&e)) {
-        s().peer_fault = PeerFault{lost->kind() == PeerLost::Kind::kDied ? "died" : "no_reply",
-                                   solver_->step_count(),
-                                   lost->ranks(),
-                                   lost->hosts(),
-                                   lost->exact(),
-                                   last,
-                                   last.empty() ? 0.0 : checkpoints_->newest_wall_time_s()};
+        s().peer_fault =
+            PeerFault{lost->kind() == PeerLost::Kind::kDied ? "died" : "no_reply",
+                      solver_->step_count(),
+                      lost->ranks(),
+                      lost->hosts(),
+                      lost->exact(),
+                      last,
+                      (last.empty() || !checkpoints_) ? 0.0 : checkpoints_->newest_wall_time_s()};
       }
       msg << (last.empty() ? "; no complete checkpoint to resume from"
                            : "; the newest checkpoint complete on both sides is " + last +

@@ -1,6 +1,7 @@
 // The run is a time loop over observers (run_driver.cpp):
 //
-//   set up -> on_start -> for each step { solver.step(); after_step } -> on_end -> figures
+//   set up -> on_start -> for each step { solver.step(); after_step; checkpoint if due }
+//          -> on_end -> summary.json (the run's figures, then add_figures of each)
 //
 // Everything a run does around the solver's steps is an observer with its own file: the
 // step log (step_log.hpp), the outputs (output/run_outputs.hpp: energies, timings, RVE costs,
@@ -8,7 +9,9 @@
 // (progress_observer.hpp), the column collapse (column_observer.hpp) and each verification
 // case (bar_vibration_observer.hpp, elastic_column_observer.hpp), and the constitutive
 // model's counters (model_observer.hpp). The loop calls them in the order they were made
-// (make_observers in run_driver.cpp) and never names a case.
+// (make_observers in run_driver.cpp) and never names a case. That order is also the order of
+// their figures in summary.json; an observer that asks for a frame (frame_wanted) comes
+// before the outputs. A checkpoint is written after every observer has seen the step.
 //
 // Each observer keeps its own part of a checkpoint (save() into, restore() from the
 // checkpoint's DriverState, output/checkpoint.hpp) and adds its own figures to summary.json.

@@ -11,23 +11,29 @@
 #include <optional>
 #include <sstream>
 #include <tuple>
+#include <vector>
 
-#include "analysis/column_collapse.hpp"
 #include "constitutive/model_registry.hpp"
 #include "constitutive/remote.hpp"
 #include "errors.hpp"
 #include "mpmdem/config/schema.hpp"
 #include "mpmdem/errors.hpp"
 #include "output/checkpoint.hpp"
-#include "output/hdf5_writer.hpp"
 #include "output/run_directory.hpp"
 #include "output/run_outputs.hpp"
 #include "particle_init.hpp"
-#include "progress.hpp"
+#include "run/bar_vibration_observer.hpp"
+#include "run/checkpoints.hpp"
+#include "run/column_observer.hpp"
+#include "run/elastic_column_observer.hpp"
+#include "run/model_observer.hpp"
+#include "run/observer.hpp"
+#include "run/progress_observer.hpp"
+#include "run/signals.hpp"
+#include "run/step_log.hpp"
 #include "run_status.hpp"
 #include "run_support.hpp"
 #include "solver.hpp"
-#include "verification/bar_vibration.hpp"
 
 namespace mpmdem::mpm {
 
@@ -35,7 +41,8 @@ namespace {
 
 using namespace run_support;
 
-// One run: set-up, time loop, final outputs, summary. RunResult is filled as it goes.
+// One run: set up, the time loop over the observers (run/observer.hpp), finish with
+// summary.json. RunResult is filled as it goes.
 class Run {
  public:
   Run(const Scene& scene, const RunOptions& opt)
@@ -53,11 +60,15 @@ class Run {
   RunResult execute() {
     clear_stop_request();
     if (!set_up()) return result_;
+    ctx_.emplace(RunContext{scene_, dir_, *solver_, out_, err_, [this] { return wall_time(); },
+                            [this] { return expected_end_time(); }});
+    ctx_->resumed = !resume_dir_.empty();
+    ctx_->status = status_;
     SignalGuard signals(opt_.handle_signals);
     try {
+      make_observers();
       time_loop();
-      final_outputs();
-      if (status_ == RunStatus::kComplete) verify();
+      for (auto& o : observers_) o->on_end(*ctx_);
       result_.exit_code = exit_code(status_);
     } catch (const std::exception& e) {
       fail(e);
@@ -109,7 +120,6 @@ class Run {
     } catch (const std::exception& e) {
       return setup_failed("setting up the run failed: ", e);
     }
-    if (scene_.column_collapse.enabled) column_.emplace(scene_);
     sum.model = solver_->provider().name();
     sum.mass_initial_kg = total_mass(solver_->particles());
     sum.dt_min_s = std::numeric_limits<double>::infinity();
@@ -154,10 +164,6 @@ class Run {
     } catch (const std::exception& e) {
       return setup_failed("resuming the run failed: ", e);
     }
-    if (scene_.column_collapse.enabled) {
-      column_.emplace(scene_);
-      column_->restore(resumed_.column);
-    }
     sum.model = solver_->provider().name();
     sum.resumed_from_step = solver_->step_count();
     sum.mass_initial_kg = resumed_.mass_initial_kg;
@@ -166,7 +172,6 @@ class Run {
     sum.dt_min_s = resumed_.dt_min_s;
     sum.dt_max_s = resumed_.dt_max_s;
     wall_before_ = resumed_.wall_time_s;
-    newest_checkpoint_wall_s_ = resumed_.wall_time_s;
     set_status(RunStatus::kComplete);
     out_ << "mpm_app " << MPMDEM_VERSION << ": scene '" << scene_.name << "' resumed from "
          << resume_dir_ << " (step " << solver_->step_count() << ", t=" << solver_->time()
@@ -174,56 +179,42 @@ class Run {
     return true;
   }
 
-  std::int64_t rve_particles() const {
-    return resume_dir_.empty() ? solver_->provider().rve_particles() : resumed_.rve_particles;
-  }
-
-  // Both sides save their state; the checkpoint counts once both are done (COMPLETE).
-  // Returns the wall time it took.
-  double write_checkpoint() {
-    require_finite();
-    const double start = wall_time();
-    const std::string dir = checkpoint_directory(dir_, solver_->step_count());
-    const DriverState state = driver_state();
-    write_mpm_checkpoint(dir, solver_->state(), state);
-    solver_->provider().checkpoint(dir + "/dem", solver_->step_count());
-    commit_checkpoint(dir_, dir, scene_.output.checkpoints_kept);
-    newest_checkpoint_wall_s_ = state.wall_time_s;
-    const double took = wall_time() - start;
-    checkpoint_wall_s_ += took;
-    ++checkpoints_;
-    out_ << "[step " << solver_->step_count() << ", t=" << solver_->time() << " s] checkpoint "
-         << dir << " (" << format_seconds(took) << " s)" << std::endl;
-    return took;
-  }
-
-  // A peer fault (a DEM rank died, an MPI failure): mpm_app saves its own state, without
-  // COMPLETE (the DEM side is lost, --resume never picks it). Returns the directory, or ""
-  // if it could not be written.
-  std::string write_fault_checkpoint() {
-    const std::string dir = fault_checkpoint_directory(dir_, solver_->step_count());
-    try {
-      write_mpm_checkpoint(dir, solver_->state(), driver_state());
-      return dir;
-    } catch (const std::exception& e) {
-      err_ << "warning: writing the fault checkpoint " << dir << " failed: " << e.what()
-           << std::endl;
-      return "";
+  // The observers of the time loop, in the order they see each step and add their figures
+  // to summary.json (analysis figures: the column's, the model's, the checkpoints', the
+  // timings'). A resumed run hands each its part of the checkpoint.
+  void make_observers() {
+    observers_.push_back(std::make_unique<StepLog>());
+    if (scene_.verification.kind == VerificationKind::kBarVibration) {
+      observers_.push_back(std::make_unique<BarVibrationObserver>());
+    } else if (scene_.verification.kind == VerificationKind::kElasticColumn) {
+      observers_.push_back(std::make_unique<ElasticColumnObserver>());
+    }
+    if (scene_.column_collapse.enabled) {
+      observers_.push_back(std::make_unique<ColumnCollapseObserver>(scene_));
+    }
+    observers_.push_back(std::make_unique<ModelObserver>(*solver_));
+    auto checkpoints = std::make_unique<Checkpoints>([this] { return run_state(); });
+    checkpoints_ = checkpoints.get();
+    observers_.push_back(std::move(checkpoints));
+    observers_.push_back(std::make_unique<RunOutputs>(scene_, dir_));
+    observers_.push_back(std::make_unique<ProgressObserver>());
+    if (!resume_dir_.empty()) {
+      for (auto& o : observers_) o->restore(*ctx_, resumed_);
     }
   }
 
-  DriverState driver_state() {
+  // The state a checkpoint holds besides the solver's: the run's own (timing sums, wall
+  // time, time-step range, initial mass, the provider's state) and every observer's part.
+  DriverState run_state() {
     DriverState d;
-    outputs_->save(d);
-    if (column_) d.column = column_->state();
     d.step_wall_time_s = s().step_wall_time_s;
     d.step_cpu_time_s = s().step_cpu_time_s;
     d.wall_time_s = wall_time();
     d.dt_min_s = s().dt_min_s;
     d.dt_max_s = s().dt_max_s;
     d.mass_initial_kg = s().mass_initial_kg;
-    d.rve_particles = rve_particles();
     d.provider_state = solver_->provider().save_state();
+    for (auto& o : observers_) o->save(d);
     return d;
   }
 
@@ -237,6 +228,7 @@ class Run {
   void set_status(RunStatus status) {
     status_ = status;
     s().status = status_text(status);
+    if (ctx_) ctx_->status = status;
   }
 
   // A run that could not start: the message (an untyped fault's after `context`), the exit
@@ -255,30 +247,12 @@ class Run {
     return false;
   }
 
-  // Step until the end time or a stop request; energies, frames and progress on the way.
+  // Step until the end time, an observer ends the run, or a stop request. After each step
+  // every observer sees it, then a checkpoint is written if one is due.
   void time_loop() {
-    outputs_.emplace(scene_, dir_);
-    if (resume_dir_.empty()) {
-      outputs_->start(*solver_);
-    } else {
-      outputs_->resume(*solver_, resumed_);
-    }
-    if (scene_.verification.kind == VerificationKind::kBarVibration) {
-      try {
-        bar_.emplace(scene_);
-        bar_->record(solver_->time(), solver_->particles());
-      } catch (const std::exception& e) {  // a verification fault does not stop the run
-        err_ << "warning: bar_vibration verification disabled: " << e.what() << std::endl;
-      }
-    }
-    print_events();
-    observe_column();
-    outputs_->start_checkpoints(wall_time());
-
-    Progress progress(out_, scene_.output.progress_interval_s);
-    progress.start(solver_->time());
-
-    while (!solver_->finished() && !(column_ && column_->done(solver_->time()))) {
+    RunContext& run = *ctx_;
+    for (auto& o : observers_) o->on_start(run);
+    while (!solver_->finished() && !an_observer_ends_run()) {
       if (stop_requested()) {
         set_status(RunStatus::kInterrupted);
         out_ << "stop requested: stopping after step " << solver_->step_count() << std::endl;
@@ -290,52 +264,21 @@ class Run {
         break;
       }
       timed_step();
-      log_time_step();
-      print_events();
-      if (bar_) bar_->record(solver_->time(), solver_->particles());
-      outputs_->after_step(*solver_, last_dt_);
-      observe_column();
-      if (outputs_->checkpoint_due(solver_->step_count(), wall_time())) {
-        const double took = write_checkpoint();
-        outputs_->checkpoint_written(wall_time(), took);
-      }
-      if (progress.due()) progress.update(progress_state());
+      for (auto& o : observers_) o->after_step(run);
+      if (checkpoints_->due(run)) checkpoints_->write(run);
     }
-    progress.print(progress_state());
   }
 
-  // Column collapse: the start of stage 2 and the snapshots at t_r + k t*.
-  void observe_column() {
-    if (!column_) return;
-    const double t = solver_->time();
-    if (column_->observe(t, solver_->boundary_conditions(), solver_->particles())) {
-      out_ << "[step " << solver_->step_count() << ", t=" << t
-           << " s] stage 2 (collapse) starts: stage 1 took " << t
-           << " s; t* = " << column_->geometry().t_star
-           << " s, the run ends at t = " << column_->end_time() << " s"
-           << (column_->at_rest() ? " or earlier, once the deposit is at rest" : "") << std::endl;
-    }
-    if (column_->observe_rest(t, solver_->particles())) {
-      const AtRestDetector& r = *column_->at_rest();
-      out_ << "[step " << solver_->step_count() << ", t=" << t
-           << " s] the deposit is at rest: E_k/E_p0 < " << r.kinetic_ratio()
-           << " since t/t* = " << *r.quiet_since() / column_->geometry().t_star
-           << "; stage 2 ends at t/t* = " << column_->time_over_t_star(t) << std::endl;
-    }
-    for (const std::string& label : column_->due_snapshots(t, 1e-6 * last_dt_)) {
-      require_finite();
-      std::filesystem::create_directories(dir_ + "/snapshots");
-      write_final_state(dir_ + "/snapshots/" + label + ".h5", solver_->particles(),
-                        {t, solver_->step_count(), scene_.name, scene_.source_file});
-      if (!outputs_->frame_written_at(solver_->step_count())) outputs_->write_frame(*solver_);
-      out_ << "[step " << solver_->step_count() << ", t=" << t << " s] snapshot " << label
-           << " (t/t* = " << column_->time_over_t_star(t) << ")" << std::endl;
-    }
+  bool an_observer_ends_run() const {
+    return std::any_of(observers_.begin(), observers_.end(),
+                       [this](const auto& o) { return o->ends_run(*ctx_); });
   }
 
   // Simulated time at which the run will end (as far as known now).
   double expected_end_time() const {
-    return std::min(scene_.solver.end_time, column_ ? column_->end_time() : scene_.solver.end_time);
+    double end = scene_.solver.end_time;
+    for (const auto& o : observers_) end = std::min(end, o->end_time());
+    return end;
   }
 
   void timed_step() {
@@ -346,53 +289,10 @@ class Run {
     s().step_wall_time_s +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     s().step_cpu_time_s += process_cpu_time() - cpu_start;
-    last_dt_ = solver_->dt();
-    s().dt_min_s = std::min(s().dt_min_s, last_dt_);
-    s().dt_max_s = std::max(s().dt_max_s, last_dt_);
-  }
-
-  void log_time_step() {
-    const std::string line = dt_log_.line(last_dt_, solver_->step_count(), solver_->time());
-    if (!line.empty()) out_ << line << std::endl;
-  }
-
-  void print_events() {
-    for (const std::string& e : solver_->take_events()) {
-      out_ << "[step " << solver_->step_count() << ", t=" << solver_->time() << " s] " << e
-           << std::endl;
-    }
-  }
-
-  void require_finite() const { mpm::require_finite(solver_->particles(), solver_->step_count()); }
-
-  ProgressState progress_state() const {
-    return {solver_->step_count(),   solver_->time(),
-            expected_end_time(),     last_dt_,
-            solver_->energies().E_k, solver_->initial_potential_energy()};
-  }
-
-  // Last energy row and frame (if not just written), and the final state (complete or
-  // interrupted runs).
-  void final_outputs() {
-    outputs_->final_rows(*solver_, last_dt_);
-    if (scene_.output.hdf5) {
-      require_finite();
-      write_final_state(dir_ + "/final_state.h5", solver_->particles(),
-                        {solver_->time(), solver_->step_count(), scene_.name, scene_.source_file});
-    }
-  }
-
-  // The verification figures of the scene's kind. A fault here (e.g. moduli not found) is
-  // reported but does not turn a complete run into a failed one: the figures are absent.
-  void verify() {
-    try {
-      s().verification =
-          verification_figures(scene_, solver_->particles(), bar_ ? &*bar_ : nullptr);
-    } catch (const std::exception& e) {
-      err_ << "warning: verification " << s().verification_kind << " not computed: " << e.what()
-           << std::endl;
-      s().verification.clear();
-    }
+    const double dt = solver_->dt();
+    ctx_->dt = dt;
+    s().dt_min_s = std::min(s().dt_min_s, dt);
+    s().dt_max_s = std::max(s().dt_max_s, dt);
   }
 
   void fail(const std::exception& e) {
@@ -404,17 +304,18 @@ class Run {
     msg << e.what();
     if (dynamic_cast<const PeerError*>(&e) != nullptr &&
         dynamic_cast<const HandshakeError*>(&e) == nullptr) {
-      const std::string fault_dir = write_fault_checkpoint();
+      const std::string fault_dir = checkpoints_ ? checkpoints_->write_fault(*ctx_) : "";
       if (!fault_dir.empty()) msg << "; mpm_app's own state at the fault: " << fault_dir;
       const std::string last = latest_checkpoint(dir_);
       if (const auto* lost = dynamic_cast<const PeerLost*>(&e)) {
-        s().peer_fault = PeerFault{lost->kind() == PeerLost::Kind::kDied ? "died" : "no_reply",
-                                   solver_->step_count(),
-                                   lost->ranks(),
-                                   lost->hosts(),
-                                   lost->exact(),
-                                   last,
-                                   last.empty() ? 0.0 : newest_checkpoint_wall_s_};
+        s().peer_fault =
+            PeerFault{lost->kind() == PeerLost::Kind::kDied ? "died" : "no_reply",
+                      solver_->step_count(),
+                      lost->ranks(),
+                      lost->hosts(),
+                      lost->exact(),
+                      last,
+                      (last.empty() || !checkpoints_) ? 0.0 : checkpoints_->newest_wall_time_s()};
       }
       msg << (last.empty() ? "; no complete checkpoint to resume from"
                            : "; the newest checkpoint complete on both sides is " + last +
@@ -455,27 +356,11 @@ class Run {
     std::tie(sum.E_k0_J, sum.W_int_J, sum.W_damp_J, sum.W_bc_J, sum.W_transfer_J,
              sum.W_transfer_walls_J) =
         std::tie(b.E_k0, b.W_int, b.W_damp, b.W_bc, b.W_transfer, b.W_transfer_walls);
+    // Every observer adds its figures: the verification, the analysis, the stop reason.
     sum.analysis.clear();
-    if (column_) sum.analysis = column_->figures(solver_->time(), p);
-    sum.stop_reason =
-        stop_reason(sum.status, column_ ? column_->end_reason(solver_->time()) : std::string());
+    sum.stop_reason = stop_reason(status_);
     sum.stop.clear();
-    if (column_) sum.stop = column_->stop_figures(sum.time_s, sum.steps);
-    if (scene_.constitutive.is_remote()) {
-      for (const auto& kv : remote_figures(*solver_, rve_particles())) sum.analysis.push_back(kv);
-    } else if (const LocalModel* model = find_local_model(scene_.constitutive.model);
-               model && model->figures) {
-      for (const auto& kv : model->figures(scene_.constitutive, *solver_)) {
-        sum.analysis.push_back(kv);
-      }
-    }
-    if (checkpoints_ > 0) {  // this process's part of the run (a resumed one: since resuming)
-      sum.analysis.emplace_back("checkpoints", static_cast<double>(checkpoints_));
-      sum.analysis.emplace_back("checkpoint_wall_time_s", checkpoint_wall_s_);
-    }
-    if (outputs_) {
-      for (const auto& kv : outputs_->close()) sum.analysis.push_back(kv);
-    }
+    for (auto& o : observers_) o->add_figures(*ctx_, sum);
     if (opt_.final_particles) *opt_.final_particles = p;
     sum.wall_time_s = wall_time();
     if (!write_summary_file() && result_.exit_code == 0) {
@@ -508,17 +393,12 @@ class Run {
   RunResult result_;
   RunStatus status_ = RunStatus::kComplete;  // summary.json's "status" is status_text(status_)
   std::unique_ptr<Solver> solver_;
-  std::optional<RunOutputs> outputs_;  // energy log, timings, frames, checkpoint triggers
-  std::optional<BarVibrationMonitor> bar_;
-  std::optional<ColumnCollapseMonitor> column_;
   std::string resume_dir_;  // checkpoint this run continues from ("" for a fresh run)
   DriverState resumed_;
-  double wall_before_ = 0.0;               // wall time of the run before its last resume
-  double newest_checkpoint_wall_s_ = 0.0;  // the run's wall time at its newest checkpoint
-  std::int64_t checkpoints_ = 0;           // checkpoints written by this process
-  double checkpoint_wall_s_ = 0.0;         // their wall time, both sides
-  double last_dt_ = 0.0;
-  TimeStepLog dt_log_;
+  double wall_before_ = 0.0;  // wall time of the run before its last resume
+  std::optional<RunContext> ctx_;
+  Observers observers_;  // make_observers()
+  Checkpoints* checkpoints_ = nullptr;
 };
 
 }  // namespace

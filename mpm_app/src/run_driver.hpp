@@ -1,6 +1,7 @@
 // One run of a scene, from a validated Scene to a finished run directory: particles,
-// constitutive provider, solver; the time loop with progress lines, energy log and VTK
-// frames; the final state, the verification figures and summary.json.
+// constitutive provider, solver (or a checkpoint's state); the time loop over the run's
+// observers (run/observer.hpp: step log, verification, column collapse, outputs,
+// checkpoints, progress); summary.json from the run's figures and every observer's.
 //
 // RunResult::exit_code, returned by mpm_app, and summary.json's "status" follow how the run
 // ended: run_status.hpp (0 complete or truncated, 2 scene/directory fault, 3 handshake

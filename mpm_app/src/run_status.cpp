@@ -29,6 +29,22 @@ bool is_failure(RunStatus status) {
          status == RunStatus::kFailed;
 }
 
+const char* stop_reason(RunStatus status) {
+  switch (status) {
+    case RunStatus::kComplete:
+      return "end_time";
+    case RunStatus::kTruncated:
+      return "max_steps";
+    case RunStatus::kInterrupted:
+      return "interrupted";
+    case RunStatus::kConfigError:
+    case RunStatus::kRefused:
+    case RunStatus::kFailed:
+      break;
+  }
+  return "failed";
+}
+
 int exit_code(RunStatus status) {
   switch (status) {
     case RunStatus::kComplete:

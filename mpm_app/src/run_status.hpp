@@ -21,6 +21,10 @@ enum class RunStatus { kComplete, kTruncated, kInterrupted, kConfigError, kRefus
 const char* status_text(RunStatus status);
 // A run that failed (status "failed": kConfigError, kRefused, kFailed).
 bool is_failure(RunStatus status);
+// summary.json's stop reason ("stop": {"reason": ...}) of a run that ended so: "end_time",
+// "max_steps", "interrupted" or "failed". An observer that ended a complete run replaces
+// "end_time" with its own reason (the column collapse: "duration", "at_rest").
+const char* stop_reason(RunStatus status);
 // mpm_app's exit code of a run that ended so.
 int exit_code(RunStatus status);
 // How a run ends that `e` stopped: kConfigError for a scene, config or run-directory fault,

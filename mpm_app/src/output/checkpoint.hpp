@@ -23,17 +23,23 @@
 
 namespace mpmdem::mpm {
 
-// What the run driver needs besides the solver to continue exactly.
+// What a run needs besides the solver to continue exactly: the run's own part (timing sums,
+// wall time, time-step range, initial mass, provider state) and each observer's part
+// (run/observer.hpp: Observer::save / restore). The file format is fixed here, so an
+// observer's part is a field of this struct.
 struct DriverState {
+  // The outputs (output/run_outputs.hpp): their schedule.
   double next_frame = 0.0;
   double next_energy = 0.0;
   std::vector<double> frame_times;  // VTK frames written so far (frame_<k>.vtu)
   std::int64_t last_frame_step = -1;
   std::int64_t last_energy_step = -1;
-  ColumnState column;  // column collapse: stage, snapshots, at-rest timer
+  // The column collapse (run/column_observer.hpp): stage, snapshots, at-rest timer.
+  ColumnState column;
+  std::int64_t rve_particles = 0;  // the model (run/model_observer.hpp)
+  // The run's own.
   double step_wall_time_s = 0.0, step_cpu_time_s = 0.0, wall_time_s = 0.0;
   double dt_min_s = 0.0, dt_max_s = 0.0, mass_initial_kg = 0.0;
-  std::int64_t rve_particles = 0;
   std::vector<double> provider_state;  // ConstitutiveProvider::save_state() (may be empty)
 };
 

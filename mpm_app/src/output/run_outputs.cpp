@@ -3,6 +3,7 @@
 #include <limits>
 
 #include "errors.hpp"
+#include "output/hdf5_writer.hpp"
 #include "run_support.hpp"
 
 namespace mpmdem::mpm {
@@ -16,22 +17,11 @@ void require_finite(const Particles& p, std::int64_t step) {
 
 RunOutputs::RunOutputs(const Scene& scene, std::string dir) : scene_(scene), dir_(std::move(dir)) {}
 
-void RunOutputs::start(const Solver& solver) {
-  energy_.emplace(dir_ + "/energies.csv");
-  timings_.emplace(dir_ + "/timings.csv");
-  log_energy(solver, 0.0);
-  if (scene_.output.vtk) vtk_.emplace(dir_);
-  write_frame(solver);
-  const double frame_interval = scene_.output.interval;
-  const double energy_interval = scene_.output.energy_interval;
-  next_frame_ = frame_interval > 0.0 ? frame_interval : std::numeric_limits<double>::infinity();
-  next_energy_ = energy_interval > 0.0 ? energy_interval : 0.0;
-}
-
-void RunOutputs::resume(const Solver& solver, const DriverState& d) {
-  energy_.emplace(dir_ + "/energies.csv", solver.step_count());
-  timings_.emplace(dir_ + "/timings.csv", solver.step_count());
-  rve_costs_from_ = solver.step_count();
+void RunOutputs::restore(RunContext& run, const DriverState& d) {
+  const std::int64_t step = run.solver.step_count();
+  energy_.emplace(dir_ + "/energies.csv", step);
+  timings_.emplace(dir_ + "/timings.csv", step);
+  rve_costs_from_ = step;
   if (scene_.output.vtk) vtk_.emplace(dir_, d.frame_times);
   last_frame_step_ = d.last_frame_step;
   last_energy_step_ = d.last_energy_step;
@@ -39,12 +29,28 @@ void RunOutputs::resume(const Solver& solver, const DriverState& d) {
   next_energy_ = d.next_energy;
 }
 
-void RunOutputs::start_checkpoints(double now_s) {
-  checkpoints_.emplace(scene_.output.checkpoint_interval_steps, scene_.output.checkpoint_interval_s,
-                       now_s);
+void RunOutputs::on_start(RunContext& run) {
+  const Solver& solver = run.solver;
+  if (run.resumed) {
+    if (run.frame_wanted && !frame_written_at(solver.step_count())) write_frame(solver);
+    run.frame_wanted = false;
+    return;
+  }
+  energy_.emplace(dir_ + "/energies.csv");
+  timings_.emplace(dir_ + "/timings.csv");
+  log_energy(solver, 0.0);
+  if (scene_.output.vtk) vtk_.emplace(dir_);
+  write_frame(solver);
+  run.frame_wanted = false;
+  const double frame_interval = scene_.output.interval;
+  const double energy_interval = scene_.output.energy_interval;
+  next_frame_ = frame_interval > 0.0 ? frame_interval : std::numeric_limits<double>::infinity();
+  next_energy_ = energy_interval > 0.0 ? energy_interval : 0.0;
 }
 
-void RunOutputs::after_step(Solver& solver, double dt) {
+void RunOutputs::after_step(RunContext& run) {
+  Solver& solver = run.solver;
+  const double dt = run.dt;
   const std::int64_t step = solver.step_count();
   const double t = solver.time();
   if (timings_) timings_->append(step, t, solver.last_timing());
@@ -61,11 +67,10 @@ void RunOutputs::after_step(Solver& solver, double dt) {
   if (t >= next_frame_ - tol) {
     write_frame(solver);
     while (next_frame_ <= t + tol) next_frame_ += scene_.output.interval;
+  } else if (run.frame_wanted) {
+    write_frame(solver);
   }
-}
-
-bool RunOutputs::checkpoint_due(std::int64_t step, double now_s) const {
-  return checkpoints_ && checkpoints_->due(step, now_s);
+  run.frame_wanted = false;
 }
 
 void RunOutputs::log_energy(const Solver& solver, double dt) {
@@ -84,9 +89,15 @@ void RunOutputs::write_frame(const Solver& solver) {
   last_frame_step_ = solver.step_count();
 }
 
-void RunOutputs::final_rows(const Solver& solver, double dt) {
-  if (last_energy_step_ != solver.step_count()) log_energy(solver, dt);
+void RunOutputs::on_end(RunContext& run) {
+  const Solver& solver = run.solver;
+  if (last_energy_step_ != solver.step_count()) log_energy(solver, run.dt);
   if (last_frame_step_ != solver.step_count()) write_frame(solver);
+  if (scene_.output.hdf5) {
+    require_finite(solver.particles(), solver.step_count());
+    write_final_state(dir_ + "/final_state.h5", solver.particles(),
+                      {solver.time(), solver.step_count(), scene_.name, scene_.source_file});
+  }
 }
 
 void RunOutputs::save(DriverState& d) {
@@ -99,14 +110,13 @@ void RunOutputs::save(DriverState& d) {
   if (rve_costs_) rve_costs_->flush();
 }
 
-std::vector<std::pair<std::string, double>> RunOutputs::close() {
-  std::vector<std::pair<std::string, double>> totals;
+void RunOutputs::add_figures(RunContext& run, RunSummary& summary) {
+  (void)run;
   if (timings_) {
     timings_->flush();
-    for (const auto& kv : timings_->totals()) totals.push_back(kv);
+    for (const auto& kv : timings_->totals()) summary.analysis.push_back(kv);
   }
   if (rve_costs_) rve_costs_->flush();
-  return totals;
 }
 
 }  // namespace mpmdem::mpm

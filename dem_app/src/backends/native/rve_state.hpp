@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "backends/laws/table1.hpp"
 #include "backends/native/contact_law.hpp"
 #include "backends/native/periodic_cell.hpp"
 
@@ -25,10 +26,10 @@ using CellDist = Eigen::Matrix<std::int16_t, 3, 1>;
 CellDist to_cell_dist(const Eigen::Vector3i& c);
 
 struct Material {
-  double young = 6e8;         // contact modulus E [Pa]
-  double ks_kn = 0.8;         // FrictMat.poisson: ks/kn in Ip2_FrictMat_FrictMat_FrictPhys
-  double density = 2500;      // [kg/m3]
-  double friction_angle = 0;  // [rad]; tan of it caps |Fs|/|Fn|
+  double young = laws::table1::kYoung;  // contact modulus E [Pa]
+  double ks_kn = laws::table1::kKsKn;   // FrictMat.poisson: ks/kn (Ip2_FrictMat_FrictMat_FrictPhys)
+  double density = laws::table1::kDensity;  // [kg/m3]
+  double friction_angle = 0;                // [rad]; tan of it caps |Fs|/|Fn|
 };
 
 // A per-sphere or per-contact vector field stored xyz split: one contiguous array per

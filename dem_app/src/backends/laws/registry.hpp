@@ -9,6 +9,7 @@
 #include <array>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "backends/laws/frict.hpp"
 #include "backends/laws/frict_visco.hpp"
@@ -50,6 +51,13 @@ inline constexpr auto kLaws = detail::infos(AllLaws{});
 template <class F>
 decltype(auto) visit_law(int id, F&& f) {
   return detail::visit(id, std::forward<F>(f), AllLaws{});
+}
+
+// The laws' names, in id order (the values coupling.<backend>.contact_law accepts).
+inline std::vector<std::string> law_names() {
+  std::vector<std::string> names;
+  for (const LawInfo& l : kLaws) names.emplace_back(l.name);
+  return names;
 }
 
 // The id of the law of that name, or -1.

@@ -28,7 +28,7 @@
 
 #include "backend_catalog.hpp"
 #include "backend_factory.hpp"
-#include "backends/laws/registry.hpp"
+#include "backends/contact_laws/registry.hpp"
 #include "coupling_rules.hpp"
 #include "coupling_schema.hpp"
 #include "mpmdem/config_hash.hpp"

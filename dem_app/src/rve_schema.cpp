@@ -1,7 +1,7 @@
 // Keys shared by the RVE backends (see rve_schema.hpp).
 #include "rve_schema.hpp"
 
-#include "backends/laws/registry.hpp"
+#include "backends/contact_laws/registry.hpp"
 
 namespace mpmdem {
 

@@ -1,5 +1,5 @@
-// The contact laws by name (backends/laws/registry.hpp): the names the scene key accepts, the
-// mapping to native::ContactLawKind, visit_law, and the laws' functions on double against
+// The contact laws by name (backends/contact_laws/registry.hpp): the names the scene key accepts,
+// the mapping to native::ContactLawKind, visit_law, and the laws' functions on double against
 // YADE's formulas (Ip2_FrictMat_FrictMat_FrictPhys, FrictViscoPhys's dashpot).
 #include <gtest/gtest.h>
 
@@ -7,8 +7,8 @@
 #include <string>
 #include <type_traits>
 
-#include "backends/laws/registry.hpp"
-#include "backends/laws/table1.hpp"
+#include "backends/contact_laws/registry.hpp"
+#include "backends/contact_laws/table1.hpp"
 #include "backends/native/contact_law.hpp"
 
 namespace {

@@ -4,7 +4,7 @@
 // Ip2_FrictMat_FrictMat_FrictPhys from the radii) and a contact's Love-Weber and stiffness
 // terms. Expression for expression those of the native backend (native/contact_kernel.cpp's
 // contact_loop, native/measures.cpp's contributions), so that the batch gives its bits; the law
-// itself is the same source, backends/laws/frict.hpp (the batch has the frict law only:
+// itself is the same source, backends/contact_laws/frict.hpp (the batch has the frict law only:
 // coupling_rules.cpp's check_cuda_contact_law).
 #pragma once
 
@@ -12,7 +12,7 @@
 
 #include "backends/batch/batch_layout.hpp"
 #include "backends/batch/hd.hpp"
-#include "backends/laws/frict.hpp"
+#include "backends/contact_laws/frict.hpp"
 
 namespace mpmdem::dem::batch {
 

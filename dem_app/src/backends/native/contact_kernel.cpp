@@ -12,7 +12,7 @@ namespace {
 
 // The arrays one call reads and writes (restrict: the vectoriser needs no alias checks).
 // Sphere and contact vector fields are xyz split (x0, x1, x2: the components of the position).
-// Law: the RVE's contact law (backends/laws/); a viscous one (Law::kViscous) also reads the
+// Law: the RVE's contact law (backends/contact_laws/); a viscous one (Law::kViscous) also reads the
 // masses and writes the viscous part of its normal force to visc_out; otherwise both are
 // unused (nullptr).
 template <class Law>

@@ -1,7 +1,7 @@
 // The contact update of one DEM step over a range of contacts, one loop without branches
 // over the structure-of-arrays contact state (rve_state.hpp's Split3 fields):
 // Ig2_Sphere_Sphere_ScGeom (avoidGranularRatcheting = true, its default) with
-// ScGeom::precompute/rotate and the RVE's contact law (backends/laws/: frict's
+// ScGeom::precompute/rotate and the RVE's contact law (backends/contact_laws/: frict's
 // Law2_ScGeom_FrictPhys_CundallStrack, periodic branch, or frict_visco),
 // formula for formula (docs/dem_backend.md, "Same physics, to rounding"), the sphere fields
 // gathered by index. It vectorises across contacts (SIMD clones, simd_clones.hpp); forces
@@ -13,7 +13,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "backends/laws/law_math.hpp"
+#include "backends/contact_laws/law_math.hpp"
 #include "backends/native/rve_state.hpp"
 
 namespace mpmdem::dem::native {

@@ -121,7 +121,7 @@ MPMDEM_AVX512 inline v8d vsqrt(v8d x) {
 }  // namespace
 }  // namespace mpmdem::dem::native
 
-// The contact laws' arithmetic on 8 lanes (backends/laws/law_math.hpp): the laws' templates
+// The contact laws' arithmetic on 8 lanes (backends/contact_laws/law_math.hpp): the laws' templates
 // compiled for v8d are inlined into the loops below, which have AVX-512.
 template <>
 struct mpmdem::dem::laws::LawMath<mpmdem::dem::native::v8d> {

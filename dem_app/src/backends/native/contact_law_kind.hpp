@@ -6,14 +6,14 @@
 #include <cmath>
 #include <cstdint>
 
-#include "backends/laws/registry.hpp"
+#include "backends/contact_laws/registry.hpp"
 
 namespace mpmdem::dem::native {
 
 // The law of every contact of an RVE (docs/theory_contact_law.md): its id in
-// laws::AllLaws (backends/laws/registry.hpp), where each law is one file:
-//  * kFrict: laws/frict.hpp (FrictMat, Law2_ScGeom_FrictPhys_CundallStrack);
-//  * kFrictVisco: laws/frict_visco.hpp (FrictViscoMat, the same springs and slider plus a
+// laws::AllLaws (backends/contact_laws/registry.hpp), where each law is one file:
+//  * kFrict: contact_laws/frict.hpp (FrictMat, Law2_ScGeom_FrictPhys_CundallStrack);
+//  * kFrictVisco: contact_laws/frict_visco.hpp (FrictViscoMat, the same springs and slider plus a
 //    normal dashpot set from the coefficient of restitution e_n of a binary collision,
 //    restitution_damping_ratio).
 enum class ContactLawKind : std::int32_t { kFrict = 0, kFrictVisco = 1 };

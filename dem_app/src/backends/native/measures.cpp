@@ -24,8 +24,8 @@ struct Contributions {
   double v[kTerms][kChunk];
 };
 
-// Law: the RVE's contact law (backends/laws/); a viscous one's normal force includes its viscous
-// part visc (Contacts::normal_viscous); otherwise visc is unused (nullptr).
+// Law: the RVE's contact law (backends/contact_laws/); a viscous one's normal force includes its
+// viscous part visc (Contacts::normal_viscous); otherwise visc is unused (nullptr).
 template <class Law>
 MPMDEM_ALWAYS_INLINE void contributions_body(
     std::size_t m, const double (&h)[3][3], double young, double ks_kn,

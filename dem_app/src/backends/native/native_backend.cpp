@@ -17,7 +17,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "backends/laws/table1.hpp"
+#include "backends/contact_laws/table1.hpp"
 #include "backends/native/cell_regularisation.hpp"
 #include "backends/native/integrator.hpp"
 #include "backends/native/measures.hpp"
@@ -83,7 +83,7 @@ const NativeBackend::Packing& NativeBackend::packing(const std::string& name) {
 native::RveState NativeBackend::cloud(std::uint64_t point) const {
   native::CloudParams c;
   c.n_spheres = p_.inline_spheres;
-  c.r_min = dem::laws::table1::kRadiusMin;  // Table 1's grains (backends/laws/table1.hpp)
+  c.r_min = dem::laws::table1::kRadiusMin;  // Table 1's grains (backends/contact_laws/table1.hpp)
   c.r_max = dem::laws::table1::kRadiusMax;
   c.material.friction_angle = std::atan(dem::laws::table1::kFriction);
   c.seed = static_cast<std::uint64_t>(p_.seed) + point;

@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "backends/laws/table1.hpp"
+#include "backends/contact_laws/table1.hpp"
 #include "backends/native/contact_law.hpp"
 #include "backends/native/periodic_cell.hpp"
 
@@ -129,7 +129,7 @@ struct RveState {
   std::int64_t iter = 0;
 };
 
-// kn and ks of contact k: the RVE's law's stiffness (laws/frict.hpp: Ip2_FrictMat_FrictMat_
+// kn and ks of contact k: the RVE's law's stiffness (contact_laws/frict.hpp: Ip2_FrictMat_FrictMat_
 // FrictPhys from the two radii and the RVE's one material), the same bits as the kernels';
 // tan_phi 0.
 inline FrictPhys contact_stiffness(const RveState& s, std::size_t k) {

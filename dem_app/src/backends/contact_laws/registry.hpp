@@ -11,8 +11,8 @@
 #include <utility>
 #include <vector>
 
-#include "backends/laws/frict.hpp"
-#include "backends/laws/frict_visco.hpp"
+#include "backends/contact_laws/frict.hpp"
+#include "backends/contact_laws/frict_visco.hpp"
 
 namespace mpmdem::dem::laws {
 

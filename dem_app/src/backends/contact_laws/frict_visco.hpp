@@ -8,7 +8,7 @@
 // spring-dashpot (docs/theory_contact_law.md). Only the normal force differs from frict.
 #pragma once
 
-#include "backends/laws/frict.hpp"
+#include "backends/contact_laws/frict.hpp"
 
 namespace mpmdem::dem::laws {
 

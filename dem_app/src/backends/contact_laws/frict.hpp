@@ -11,7 +11,7 @@
 // stored_normal_force + the stored shear force.
 #pragma once
 
-#include "backends/laws/law_math.hpp"
+#include "backends/contact_laws/law_math.hpp"
 
 namespace mpmdem::dem::laws {
 

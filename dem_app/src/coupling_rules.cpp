@@ -103,8 +103,14 @@ void check_contact_law(const config::Config& cfg, const std::string& backend) {
 dem::native::ContactLaw contact_law(const config::Config& cfg, const std::string& backend) {
   check_contact_law(cfg, backend);
   const std::string p = "coupling." + backend + ".";
-  if (cfg.string(p + "contact_law") != "frict_visco") return {};
-  return dem::native::frict_visco_law(cfg.number(p + "restitution_normal"));
+  // The schema accepts only the registry's names (rve_schema.cpp).
+  const int id = dem::laws::find_law(cfg.string(p + "contact_law"));
+  if (id == static_cast<int>(dem::native::ContactLawKind::kFrictVisco)) {
+    return dem::native::frict_visco_law(cfg.number(p + "restitution_normal"));
+  }
+  dem::native::ContactLaw law;
+  law.kind = static_cast<dem::native::ContactLawKind>(id < 0 ? 0 : id);
+  return law;
 }
 
 void check_cuda_contact_law(const config::Config& cfg) {

@@ -28,6 +28,7 @@
 
 #include "backend_catalog.hpp"
 #include "backend_factory.hpp"
+#include "backends/contact_laws/registry.hpp"
 #include "coupling_rules.hpp"
 #include "coupling_schema.hpp"
 #include "mpmdem/config_hash.hpp"
@@ -227,6 +228,14 @@ int main(int argc, char** argv) {
       std::cout << name;
       if (long_form) std::cout << "  " << mpmdem::dem::find_backend(name)->summary;
       std::cout << "\n";
+    }
+    // The contact laws of the RVE backends (coupling.<backend>.contact_law; the cuda backend's
+    // batch kernel has frict only).
+    if (long_form) {
+      std::cout << "\ncontact laws (coupling.<backend>.contact_law):\n";
+      for (const auto& law : mpmdem::dem::laws::kLaws) {
+        std::cout << law.name << "  " << law.summary << "\n";
+      }
     }
     return 0;
   }

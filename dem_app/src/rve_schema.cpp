@@ -1,6 +1,8 @@
 // Keys shared by the RVE backends (see rve_schema.hpp).
 #include "rve_schema.hpp"
 
+#include "backends/contact_laws/registry.hpp"
+
 namespace mpmdem {
 
 using config::key;
@@ -64,7 +66,7 @@ void add_rve_backend_keys(config::Schema& s, const RveBackendKeys& k) {
                 "restitution_normal: FrictViscoMat, "
                 "Law2_ScGeom_FrictViscoPhys_CundallStrackVisco; docs/theory_contact_law.md)")
             .def("frict")
-            .one_of({"frict", "frict_visco"}));
+            .one_of(dem::laws::law_names()));
   s.add(key(p + "restitution_normal", Type::kDouble, "-",
             "coefficient of normal restitution e_n of a binary collision (contact_law "
             "frict_visco; 1: no dashpot); must stay 1 with contact_law frict")

@@ -3,19 +3,23 @@
 // Law2_ScGeom_FrictPhys_CundallStrack with the rotating shear spring, kn and ks of
 // Ip2_FrictMat_FrictMat_FrictPhys from the radii) and a contact's Love-Weber and stiffness
 // terms. Expression for expression those of the native backend (native/contact_kernel.cpp's
-// contact_loop, native/measures.cpp's contributions), so that the batch gives its bits.
+// contact_loop, native/measures.cpp's contributions), so that the batch gives its bits; the law
+// itself is the same source, backends/contact_laws/frict.hpp (the batch has the frict law only:
+// coupling_rules.cpp's check_cuda_contact_law).
 #pragma once
 
 #include <cmath>
 
 #include "backends/batch/batch_layout.hpp"
 #include "backends/batch/hd.hpp"
+#include "backends/contact_laws/frict.hpp"
 
 namespace mpmdem::dem::batch {
 
-// What every contact of an RVE's DEM step shares (native::LawConstants).
-struct Law {
-  double dt, half_dt, young, ks_kn, tan2;
+// What every contact of an RVE's DEM step shares (native::LawConstants): the law's parameters
+// (young, ks_kn, tan2; beta_n 0) and the step's.
+struct Law : laws::LawParams {
+  double dt, half_dt;
   double h[3][3];   // hsize
   double lh[3][3];  // velGrad * hsize before the step
 };
@@ -56,9 +60,8 @@ MPMDEM_HD_INLINE void update_contact(const BatchView& v, const Law& k, std::int6
   const double rn = n[0] * rel[0] + n[1] * rel[1] + n[2] * rel[2];
   double inc[3];
   for (int q = 0; q < 3; ++q) inc[q] = (rel[q] - rn * n[q]) * k.dt;
-  const double e1 = k.young * r1, e2 = k.young * r2;
-  const double kn = 2 * e1 * e2 / (e1 + e2);
-  const double ks = k.ks_kn * kn;
+  double kn, ks;
+  laws::Frict::stiffness(k.young, k.ks_kn, r1, r2, kn, ks);
   double fs[3] = {v.shear[0][c], v.shear[1][c], v.shear[2][c]};
   double t[3] = {fs[1] * ax[2] - fs[2] * ax[1], fs[2] * ax[0] - fs[0] * ax[2],
                  fs[0] * ax[1] - fs[1] * ax[0]};
@@ -67,14 +70,10 @@ MPMDEM_HD_INLINE void update_contact(const BatchView& v, const Law& k, std::int6
   t[1] = fs[2] * tw[0] - fs[0] * tw[2];
   t[2] = fs[0] * tw[1] - fs[1] * tw[0];
   for (int q = 0; q < 3; ++q) fs[q] -= t[q];
-  for (int q = 0; q < 3; ++q) fs[q] -= ks * inc[q];
-  const double fn_mag = kn * hd_max(pen, 0.0);
-  const double fn[3] = {fn_mag * n[0], fn_mag * n[1], fn_mag * n[2]};
-  const double max_fs = (fn[0] * fn[0] + fn[1] * fn[1] + fn[2] * fn[2]) * k.tan2;
-  const double fs2 = fs[0] * fs[0] + fs[1] * fs[1] + fs[2] * fs[2];
-  const double ratio = sqrt(max_fs) / sqrt(fs2);
-  const double scale = ratio < 1.0 ? ratio : 1.0;
-  for (int q = 0; q < 3; ++q) fs[q] *= scale;
+  laws::Frict::shear_increment(ks, inc, fs);
+  double fn[3], unused = 0;
+  laws::Frict::normal_force(k, kn, pen, rn, unused, unused, n, fn, unused);
+  laws::Frict::slide(k, fn, fs);
   const double f[3] = {-fn[0] - fs[0], -fn[1] - fs[1], -fn[2] - fs[2]};
   const double nf[3] = {n[1] * f[2] - n[2] * f[1], n[2] * f[0] - n[0] * f[2],
                         n[0] * f[1] - n[1] * f[0]};
@@ -103,12 +102,11 @@ MPMDEM_HD_INLINE void stress_terms(const BatchView& v, const double (&h)[3][3], 
   for (int q = 0; q < 3; ++q) {
     l[q] = (v.pos[q][b] + (h[q][0] * cc[0] + h[q][1] * cc[1] + h[q][2] * cc[2])) - v.pos[q][a];
   }
-  const double e1 = young * v.radius[a], e2 = young * v.radius[b];
-  const double kn = 2 * e1 * e2 / (e1 + e2);
-  const double ks = ks_kn * kn;
-  const double fn_mag = kn * hd_max(v.pen[c], 0.0);
+  double kn, ks, fn[3];
+  laws::Frict::stiffness(young, ks_kn, v.radius[a], v.radius[b], kn, ks);
+  laws::Frict::stored_normal_force(kn, v.pen[c], 0.0, n, fn);
   for (int i = 0; i < 3; ++i) {
-    const double f = fn_mag * n[i] + fs[i];
+    const double f = fn[i] + fs[i];
     for (int j = 0; j < 3; ++j) out[3 * i + j] = f * -l[j];
   }
   const double l2 = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];

@@ -138,11 +138,13 @@ MPMDEM_HD void rve_step(const BatchView& v, const BatchParams& bp, int r, Ctx& c
         }
         for (std::int64_t k = 0; k < nc; ++k) {
           const std::int64_t c = c0 + k;
-          const double e1 = v.young[r] * v.radius[s0 + v.id1[c]];
-          const double e2 = v.young[r] * v.radius[s0 + v.id2[c]];
-          const double s = (2 * e1 * e2 / (e1 + e2)) * hd_max(v.pen[c], 0.0);
+          double kn, ks, fn[3];
+          laws::Frict::stiffness(v.young[r], v.ks_kn[r], v.radius[s0 + v.id1[c]],
+                                 v.radius[s0 + v.id2[c]], kn, ks);
+          const double nrm[3] = {v.normal[0][c], v.normal[1][c], v.normal[2][c]};
+          laws::Frict::stored_normal_force(kn, v.pen[c], 0.0, nrm, fn);
           double f[3];
-          for (int q = 0; q < 3; ++q) f[q] = s * v.normal[q][c] + v.shear[q][c];
+          for (int q = 0; q < 3; ++q) f[q] = fn[q] + v.shear[q][c];
           contact += sqrt(dot3(f, f));
         }
         ub = (body / static_cast<double>(n)) / (contact / static_cast<double>(nc));

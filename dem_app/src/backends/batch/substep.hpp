@@ -20,6 +20,7 @@ MPMDEM_HD_INLINE Law law_of(const BatchView& v, int r) {
   k.young = v.young[r];
   k.ks_kn = v.ks_kn[r];
   k.tan2 = v.tan2[r];
+  k.beta_n = 0;
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b) {
       k.h[a][b] = cb[kHsize + 3 * a + b];

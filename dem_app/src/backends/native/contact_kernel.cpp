@@ -12,10 +12,10 @@ namespace {
 
 // The arrays one call reads and writes (restrict: the vectoriser needs no alias checks).
 // Sphere and contact vector fields are xyz split (x0, x1, x2: the components of the position).
-// kVisco: the frict_visco law (contact_law.hpp), which also reads the masses and writes the
-// dashpot's force c_n (n . v) to visc_out; without it both are unused (nullptr) and the loop
-// is the frict law's, operation for operation.
-template <bool kVisco>
+// Law: the RVE's contact law (backends/contact_laws/); a viscous one (Law::kViscous) also reads the
+// masses and writes the viscous part of its normal force to visc_out; otherwise both are
+// unused (nullptr).
+template <class Law>
 MPMDEM_ALWAYS_INLINE void contact_body(
     std::size_t m, const LawConstants& kc, const StagedContacts* __restrict st,
     double* __restrict nx, double* __restrict ny, double* __restrict nz, double* __restrict sx,
@@ -68,11 +68,9 @@ MPMDEM_ALWAYS_INLINE void contact_body(
     const double rn = n[0] * rel[0] + n[1] * rel[1] + n[2] * rel[2];
     double inc[3];
     for (int q = 0; q < 3; ++q) inc[q] = (rel[q] - rn * n[q]) * k.dt;
-    // FrictPhys from the radii (kn harmonic mean of E r, ks = (ks/kn) kn).
-    const double e1 = k.young * r1, e2 = k.young * r2;
-    const double kn = 2 * e1 * e2 / (e1 + e2);
-    const double ks = k.ks_kn * kn;
-    // CundallStrack: rotate the shear force with the contact, add the increment, cap.
+    double kn, ks;
+    Law::stiffness(k.young, k.ks_kn, r1, r2, kn, ks);
+    // ScGeom::rotate: the shear force turned with the contact.
     double fs[3] = {sx[j], sy[j], sz[j]};
     double t[3] = {fs[1] * ax[2] - fs[2] * ax[1], fs[2] * ax[0] - fs[0] * ax[2],
                    fs[0] * ax[1] - fs[1] * ax[0]};
@@ -81,27 +79,13 @@ MPMDEM_ALWAYS_INLINE void contact_body(
     t[1] = fs[2] * tw[0] - fs[0] * tw[2];
     t[2] = fs[0] * tw[1] - fs[1] * tw[0];
     for (int q = 0; q < 3; ++q) fs[q] -= t[q];
-    for (int q = 0; q < 3; ++q) fs[q] -= ks * inc[q];
-    const double fn_mag = kn * std::max(pen, 0.0);
-    double fn[3] = {fn_mag * n[0], fn_mag * n[1], fn_mag * n[2]};
-    if constexpr (kVisco) {
-      // Law2_ScGeom_FrictViscoPhys_CundallStrackVisco: normalForce -= c_n (n . v_incident) n
-      // with Ip2_FrictViscoMat_FrictViscoMat_FrictViscoPhys's c_n = 2 sqrt(m* kn) beta_n.
-      // v_incident's normal part is rn (its rotational terms are normal to n).
-      const double m1 = mass[a], m2 = mass[b];
-      const double mbar = m1 * m2 / (m1 + m2);
-      const double cn = 2. * std::sqrt(mbar * kn) * k.beta_n;
-      for (int q = 0; q < 3; ++q) fn[q] -= cn * (rn * n[q]);
-      visc_out[j] = cn * rn;
-    }
-    const double max_fs = (fn[0] * fn[0] + fn[1] * fn[1] + fn[2] * fn[2]) * k.tan2;
-    const double fs2 = fs[0] * fs[0] + fs[1] * fs[1] + fs[2] * fs[2];
-    // Coulomb: fs *= sqrt(max_fs) / |fs| if fs2 > max_fs. The ratio is below 1 exactly then
-    // (sqrt and division are monotonic; 0/0 is NaN, not below 1), so the test on it is the
-    // same and the division is not moved into a branch (which would stop the vectorisation).
-    const double ratio = std::sqrt(max_fs) / std::sqrt(fs2);
-    const double scale = ratio < 1.0 ? ratio : 1.0;
-    for (int q = 0; q < 3; ++q) fs[q] *= scale;
+    // The law: shear increment, normal force, Coulomb cap.
+    Law::shear_increment(ks, inc, fs);
+    double m1 = 0, m2 = 0, fn[3], visc = 0;
+    if constexpr (Law::kViscous) m1 = mass[a], m2 = mass[b];
+    Law::normal_force(k, kn, pen, rn, m1, m2, n, fn, visc);
+    if constexpr (Law::kViscous) visc_out[j] = visc;
+    Law::slide(k, fn, fs);
     // Force on sphere 1, torques n x f with the branches r - pen / 2.
     const double f[3] = {-fn[0] - fs[0], -fn[1] - fs[1], -fn[2] - fs[2]};
     const double nf[3] = {n[1] * f[2] - n[2] * f[1], n[2] * f[0] - n[0] * f[2],
@@ -118,25 +102,20 @@ MPMDEM_ALWAYS_INLINE void contact_body(
   }
 }
 
-#define MPMDEM_CONTACT_ARGS                                                                       \
-  std::size_t m, const LawConstants &kc, const StagedContacts *__restrict st,                     \
-      double *__restrict nx, double *__restrict ny, double *__restrict nz, double *__restrict sx, \
-      double *__restrict sy, double *__restrict sz, double *__restrict pen_out,                   \
-      const double *__restrict x0, const double *__restrict x1, const double *__restrict x2,      \
-      const double *__restrict v0, const double *__restrict v1, const double *__restrict v2,      \
-      const double *__restrict w0, const double *__restrict w1_, const double *__restrict w2_,    \
-      const double *__restrict rad
-MPMDEM_SIMD_CLONES void contact_loop(MPMDEM_CONTACT_ARGS, ContactOut* __restrict out) {
-  contact_body<false>(m, kc, st, nx, ny, nz, sx, sy, sz, pen_out, x0, x1, x2, v0, v1, v2, w0, w1_,
-                      w2_, rad, nullptr, nullptr, out);
+// One loop per law, compiled for AVX-512, AVX2 and the baseline (SIMD clones).
+template <class Law>
+MPMDEM_SIMD_CLONES void contact_loop(
+    std::size_t m, const LawConstants& kc, const StagedContacts* __restrict st,
+    double* __restrict nx, double* __restrict ny, double* __restrict nz, double* __restrict sx,
+    double* __restrict sy, double* __restrict sz, double* __restrict pen_out,
+    const double* __restrict x0, const double* __restrict x1, const double* __restrict x2,
+    const double* __restrict v0, const double* __restrict v1, const double* __restrict v2,
+    const double* __restrict w0, const double* __restrict w1_, const double* __restrict w2_,
+    const double* __restrict rad, const double* __restrict mass, double* __restrict visc_out,
+    ContactOut* __restrict out) {
+  contact_body<Law>(m, kc, st, nx, ny, nz, sx, sy, sz, pen_out, x0, x1, x2, v0, v1, v2, w0, w1_,
+                    w2_, rad, mass, visc_out, out);
 }
-MPMDEM_SIMD_CLONES void contact_loop_visco(MPMDEM_CONTACT_ARGS, const double* __restrict mass,
-                                           double* __restrict visc_out,
-                                           ContactOut* __restrict out) {
-  contact_body<true>(m, kc, st, nx, ny, nz, sx, sy, sz, pen_out, x0, x1, x2, v0, v1, v2, w0, w1_,
-                     w2_, rad, mass, visc_out, out);
-}
-#undef MPMDEM_CONTACT_ARGS
 
 }  // namespace
 
@@ -190,23 +169,17 @@ void update_contacts(RveState& s, const LawConstants& k, std::size_t k0, std::si
   auto& sp = s.spheres;
   StagedContacts st;
   stage_contacts(s, k0, m, st);
-  if (s.law.viscous()) {
-    contact_loop_visco(
+  visit_law(s.law.kind, [&](auto law) {
+    using Law = decltype(law);
+    contact_loop<Law>(
         m, k, &st, c.normal.c[0].data() + k0, c.normal.c[1].data() + k0, c.normal.c[2].data() + k0,
         c.shear_force.c[0].data() + k0, c.shear_force.c[1].data() + k0,
         c.shear_force.c[2].data() + k0, c.penetration.data() + k0, sp.pos.c[0].data(),
         sp.pos.c[1].data(), sp.pos.c[2].data(), sp.vel.c[0].data(), sp.vel.c[1].data(),
         sp.vel.c[2].data(), sp.ang_vel.c[0].data(), sp.ang_vel.c[1].data(), sp.ang_vel.c[2].data(),
-        sp.radius.data(), sp.mass.data(), c.normal_viscous.data() + k0, &out);
-    return;
-  }
-  contact_loop(m, k, &st, c.normal.c[0].data() + k0, c.normal.c[1].data() + k0,
-               c.normal.c[2].data() + k0, c.shear_force.c[0].data() + k0,
-               c.shear_force.c[1].data() + k0, c.shear_force.c[2].data() + k0,
-               c.penetration.data() + k0, sp.pos.c[0].data(), sp.pos.c[1].data(),
-               sp.pos.c[2].data(), sp.vel.c[0].data(), sp.vel.c[1].data(), sp.vel.c[2].data(),
-               sp.ang_vel.c[0].data(), sp.ang_vel.c[1].data(), sp.ang_vel.c[2].data(),
-               sp.radius.data(), &out);
+        sp.radius.data(), Law::kViscous ? sp.mass.data() : nullptr,
+        Law::kViscous ? c.normal_viscous.data() + k0 : nullptr, &out);
+  });
 }
 
 }  // namespace mpmdem::dem::native

@@ -1,7 +1,8 @@
 // The contact update of one DEM step over a range of contacts, one loop without branches
 // over the structure-of-arrays contact state (rve_state.hpp's Split3 fields):
 // Ig2_Sphere_Sphere_ScGeom (avoidGranularRatcheting = true, its default) with
-// ScGeom::precompute/rotate and Law2_ScGeom_FrictPhys_CundallStrack (periodic branch),
+// ScGeom::precompute/rotate and the RVE's contact law (backends/contact_laws/: frict's
+// Law2_ScGeom_FrictPhys_CundallStrack, periodic branch, or frict_visco),
 // formula for formula (docs/dem_backend.md, "Same physics, to rounding"), the sphere fields
 // gathered by index. It vectorises across contacts (SIMD clones, simd_clones.hpp); forces
 // are not scattered here but written per contact (ContactOut), and the caller adds them to
@@ -12,6 +13,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "backends/contact_laws/law_math.hpp"
 #include "backends/native/rve_state.hpp"
 
 namespace mpmdem::dem::native {
@@ -34,12 +36,12 @@ struct StagedContacts {
 // Contacts [k0, k0 + m), m <= kContactChunk.
 void stage_contacts(const RveState& s, std::size_t k0, std::size_t m, StagedContacts& st);
 
-// What every contact of a step shares.
-struct LawConstants {
-  double dt, half_dt, young, ks_kn, tan2;  // tan2: tan(friction angle)^2
-  double beta_n;                           // frict_visco's FrictViscoMat.betan (else 0)
-  double h[3][3];                          // cell hsize (image shift H c)
-  double lh[3][3];                         // velGrad * hsize before the step (image velocity)
+// What every contact of a step shares: the law's parameters (young, ks_kn, tan2, beta_n) and
+// the step's.
+struct LawConstants : laws::LawParams {
+  double dt, half_dt;
+  double h[3][3];   // cell hsize (image shift H c)
+  double lh[3][3];  // velGrad * hsize before the step (image velocity)
 };
 
 LawConstants law_constants(const RveState& s);

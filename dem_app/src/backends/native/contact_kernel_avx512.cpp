@@ -118,6 +118,32 @@ MPMDEM_AVX512 inline v8d vsqrt(v8d x) {
   return (v8d)_mm512_sqrt_pd((__m512d)x);
 }
 
+}  // namespace
+}  // namespace mpmdem::dem::native
+
+// The contact laws' arithmetic on 8 lanes (backends/contact_laws/law_math.hpp): the laws' templates
+// compiled for v8d are inlined into the loops below, which have AVX-512.
+template <>
+struct mpmdem::dem::laws::LawMath<mpmdem::dem::native::v8d> {
+  using v8d = mpmdem::dem::native::v8d;
+  MPMDEM_AVX512 static inline void sqrt(const v8d& x, v8d& out) { out = native::vsqrt(x); }
+  // LawMath<double>::cap, the same bits: the ratio is below 1 or exactly 1 where
+  // fs2 > max_fs, and not below 1 elsewhere (NaN included), so the cap is the same when it
+  // uses the ratio only there; it is computed only if a contact of the 8 slides.
+  MPMDEM_AVX512 static inline void cap(v8d (&fs)[3], const v8d& max_fs, const v8d& fs2) {
+    const __mmask8 slide = _mm512_cmp_pd_mask((__m512d)fs2, (__m512d)max_fs, _CMP_GT_OQ);
+    if (slide) {
+      const v8d zero = {0, 0, 0, 0, 0, 0, 0, 0}, one = zero + 1.0;
+      const v8d ratio = native::vsqrt(max_fs) / native::vsqrt(fs2);
+      const v8d scale = (v8d)_mm512_mask_blend_pd(slide, (__m512d)one, (__m512d)ratio);
+      for (int q = 0; q < 3; ++q) fs[q] *= scale;
+    }
+  }
+};
+
+namespace mpmdem::dem::native {
+namespace {
+
 // The chunk of contacts [j, j + 8) of [0, m): the record pointers of both spheres and the
 // image offsets as doubles; lanes past the end repeat the last contact. Returns the mask of
 // the lanes inside [0, m).
@@ -147,9 +173,10 @@ MPMDEM_AVX512 inline __attribute__((always_inline)) __mmask8 chunk(
 }
 
 // Contacts [0, m) of the arrays (offset to the chunk by the caller); see contact_loop.
-// kVisco: the frict_visco law (contact_body<true>: the masses from the records, the dashpot's
-// c_n (n . v) to visc_out); without it visc_out is unused (nullptr).
-template <bool kVisco>
+// Law: the RVE's contact law (contact_body<Law>); a viscous one reads the masses from the
+// records and writes the viscous part of its normal force to visc_out; otherwise visc_out is
+// unused (nullptr).
+template <class Law>
 MPMDEM_AVX512 void loop(std::size_t m, const LawConstants& kc, const double* __restrict rec,
                         const std::uint32_t* __restrict id1, const std::uint32_t* __restrict id2,
                         const std::int16_t* const* cell, double* const* nrm, double* const* shr,
@@ -199,9 +226,8 @@ MPMDEM_AVX512 void loop(std::size_t m, const LawConstants& kc, const double* __r
     const v8d rn = n[0] * rel[0] + n[1] * rel[1] + n[2] * rel[2];
     v8d inc[3];
     for (int q = 0; q < 3; ++q) inc[q] = (rel[q] - rn * n[q]) * k.dt;
-    const v8d e1 = k.young * r1, e2 = k.young * r2;
-    const v8d kn = 2.0 * e1 * e2 / (e1 + e2);
-    const v8d ks = k.ks_kn * kn;
+    v8d kn, ks;
+    Law::stiffness(k.young, k.ks_kn, r1, r2, kn, ks);
     v8d fs[3];
     for (int q = 0; q < 3; ++q) fs[q] = (v8d)_mm512_maskz_loadu_pd(mask, shr[q] + j);
     v8d t[3] = {fs[1] * ax[2] - fs[2] * ax[1], fs[2] * ax[0] - fs[0] * ax[2],
@@ -211,28 +237,11 @@ MPMDEM_AVX512 void loop(std::size_t m, const LawConstants& kc, const double* __r
     t[1] = fs[2] * tw[0] - fs[0] * tw[2];
     t[2] = fs[0] * tw[1] - fs[1] * tw[0];
     for (int q = 0; q < 3; ++q) fs[q] -= t[q];
-    for (int q = 0; q < 3; ++q) fs[q] -= ks * inc[q];
-    // std::max(pen, 0.0): pen < 0 ? 0 : pen (a NaN kept)
-    const v8d zero = {0, 0, 0, 0, 0, 0, 0, 0}, one = zero + 1.0;
-    const v8d fn_mag = kn * (pen < zero ? zero : pen);
-    v8d fn[3] = {fn_mag * n[0], fn_mag * n[1], fn_mag * n[2]};
-    if constexpr (kVisco) {  // contact_body's dashpot, the same expressions
-      const v8d mbar = m1 * m2 / (m1 + m2);
-      const v8d cn = 2. * vsqrt(mbar * kn) * k.beta_n;
-      for (int q = 0; q < 3; ++q) fn[q] -= cn * (rn * n[q]);
-      _mm512_mask_storeu_pd(visc_out + j, mask, (__m512d)(cn * rn));
-    }
-    const v8d max_fs = (fn[0] * fn[0] + fn[1] * fn[1] + fn[2] * fn[2]) * k.tan2;
-    const v8d fs2 = fs[0] * fs[0] + fs[1] * fs[1] + fs[2] * fs[2];
-    // Coulomb (contact_loop's select on the ratio): the ratio is below 1 or exactly 1 where
-    // fs2 > max_fs, and not below 1 elsewhere (NaN included), so the cap is the same bits
-    // when it uses the ratio only there; it is computed only if a contact slides.
-    const __mmask8 slide = _mm512_cmp_pd_mask((__m512d)fs2, (__m512d)max_fs, _CMP_GT_OQ);
-    if (slide) {
-      const v8d ratio = vsqrt(max_fs) / vsqrt(fs2);
-      const v8d scale = (v8d)_mm512_mask_blend_pd(slide, (__m512d)one, (__m512d)ratio);
-      for (int q = 0; q < 3; ++q) fs[q] *= scale;
-    }
+    Law::shear_increment(ks, inc, fs);
+    v8d fn[3], visc = {};
+    Law::normal_force(k, kn, pen, rn, m1, m2, n, fn, visc);
+    if constexpr (Law::kViscous) _mm512_mask_storeu_pd(visc_out + j, mask, (__m512d)visc);
+    Law::slide(k, fn, fs);
     const v8d f[3] = {-fn[0] - fs[0], -fn[1] - fs[1], -fn[2] - fs[2]};
     const v8d nf[3] = {n[1] * f[2] - n[2] * f[1], n[2] * f[0] - n[0] * f[2],
                        n[0] * f[1] - n[1] * f[0]};
@@ -250,9 +259,9 @@ MPMDEM_AVX512 void loop(std::size_t m, const LawConstants& kc, const double* __r
 
 // measures.cpp's contributions (the same expressions) of contacts [0, m), added to
 // lanes[t][k mod 8] in contact order: for a group of 8 contacts, which starts at a multiple
-// of 8, one vector addition per term (masked for the last group). kVisco: with the dashpot's
-// part visc of the normal force (contributions_body<true>).
-template <bool kVisco>
+// of 8, one vector addition per term (masked for the last group). Law: the RVE's contact law
+// (a viscous one with the viscous part visc of the normal force, contributions_body<Law>).
+template <class Law>
 MPMDEM_AVX512 void stress_loop(std::size_t m, const double (&h)[3][3], double young, double ks_kn,
                                const double* __restrict rec, const std::uint32_t* __restrict id1,
                                const std::uint32_t* __restrict id2, const std::int16_t* const* cell,
@@ -276,18 +285,15 @@ MPMDEM_AVX512 void stress_loop(std::size_t m, const double (&h)[3][3], double yo
     }
     const v8d pn = (v8d)_mm512_maskz_loadu_pd(mask, pen + j);
     v8d vn = zero;
-    if constexpr (kVisco) vn = (v8d)_mm512_maskz_loadu_pd(mask, visc + j);
+    if constexpr (Law::kViscous) vn = (v8d)_mm512_maskz_loadu_pd(mask, visc + j);
     for (int q = 0; q < 3; ++q) {
       l[q] = (xb[q] + (h[q][0] * ci[0] + h[q][1] * ci[1] + h[q][2] * ci[2])) - xa[q];
     }
-    const v8d e1 = young * r1, e2 = young * r2;
-    const v8d kn = 2.0 * e1 * e2 / (e1 + e2);
-    const v8d ks = ks_kn * kn;
-    const v8d fn_mag = kn * (pn < zero ? zero : pn);
+    v8d kn, ks, fn[3];
+    Law::stiffness(young, ks_kn, r1, r2, kn, ks);
+    Law::stored_normal_force(kn, pn, vn, n, fn);
     for (int i = 0; i < 3; ++i) {
-      v8d fni = fn_mag * n[i];
-      if constexpr (kVisco) fni -= vn * n[i];
-      const v8d f = fni + fs[i];
+      const v8d f = fn[i] + fs[i];
       for (int q = 0; q < 3; ++q) term[3 * i + q] = f * -l[q];
     }
     const v8d l2 = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
@@ -318,14 +324,12 @@ bool stress_terms_records(const RveState& s, const double (&h)[3][3], double (&l
   const double* nrm[3] = {c.normal.c[0].data(), c.normal.c[1].data(), c.normal.c[2].data()};
   const double* shr[3] = {c.shear_force.c[0].data(), c.shear_force.c[1].data(),
                           c.shear_force.c[2].data()};
-  if (c.viscous) {
-    stress_loop<true>(c.size(), h, s.material.young, s.material.ks_kn, rec, c.id1.data(),
-                      c.id2.data(), cell, nrm, shr, c.penetration.data(), c.normal_viscous.data(),
-                      lanes);
-  } else {
-    stress_loop<false>(c.size(), h, s.material.young, s.material.ks_kn, rec, c.id1.data(),
-                       c.id2.data(), cell, nrm, shr, c.penetration.data(), nullptr, lanes);
-  }
+  visit_law(s.law.kind, [&](auto law) {
+    using Law = decltype(law);
+    stress_loop<Law>(c.size(), h, s.material.young, s.material.ks_kn, rec, c.id1.data(),
+                     c.id2.data(), cell, nrm, shr, c.penetration.data(),
+                     Law::kViscous ? c.normal_viscous.data() : nullptr, lanes);
+  });
   return true;
 }
 
@@ -345,13 +349,12 @@ void update_contacts_records(RveState& s, const LawConstants& k, std::size_t k0,
                     c.normal.c[2].data() + k0};
   double* shr[3] = {c.shear_force.c[0].data() + k0, c.shear_force.c[1].data() + k0,
                     c.shear_force.c[2].data() + k0};
-  if (s.law.viscous()) {
-    loop<true>(m, k, rec, c.id1.data() + k0, c.id2.data() + k0, cell, nrm, shr,
-               c.penetration.data() + k0, c.normal_viscous.data() + k0, &out);
-  } else {
-    loop<false>(m, k, rec, c.id1.data() + k0, c.id2.data() + k0, cell, nrm, shr,
-                c.penetration.data() + k0, nullptr, &out);
-  }
+  visit_law(s.law.kind, [&](auto law) {
+    using Law = decltype(law);
+    loop<Law>(m, k, rec, c.id1.data() + k0, c.id2.data() + k0, cell, nrm, shr,
+              c.penetration.data() + k0, Law::kViscous ? c.normal_viscous.data() + k0 : nullptr,
+              &out);
+  });
 }
 
 #pragma GCC diagnostic pop

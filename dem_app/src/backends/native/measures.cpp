@@ -24,9 +24,9 @@ struct Contributions {
   double v[kTerms][kChunk];
 };
 
-// kVisco: the frict_visco law's normal force, its dashpot part visc (Contacts::normal_viscous)
-// included; without it visc is unused (nullptr) and the loop is the frict law's.
-template <bool kVisco>
+// Law: the RVE's contact law (backends/contact_laws/); a viscous one's normal force includes its
+// viscous part visc (Contacts::normal_viscous); otherwise visc is unused (nullptr).
+template <class Law>
 MPMDEM_ALWAYS_INLINE void contributions_body(
     std::size_t m, const double (&h)[3][3], double young, double ks_kn,
     const StagedContacts* __restrict st, const double* __restrict nx, const double* __restrict ny,
@@ -45,14 +45,12 @@ MPMDEM_ALWAYS_INLINE void contributions_body(
     for (int q = 0; q < 3; ++q) {
       l[q] = (pos[q][b] + (h[q][0] * c[0] + h[q][1] * c[1] + h[q][2] * c[2])) - pos[q][a];
     }
-    const double e1 = young * rad[a], e2 = young * rad[b];
-    const double kn = 2 * e1 * e2 / (e1 + e2);
-    const double ks = ks_kn * kn;
-    const double fn_mag = kn * std::max(pen[k], 0.0);
+    double kn, ks, fn[3];
+    Law::stiffness(young, ks_kn, rad[a], rad[b], kn, ks);
+    const double vn = Law::kViscous ? visc[k] : 0.0;
+    Law::stored_normal_force(kn, pen[k], vn, n, fn);
     for (int i = 0; i < 3; ++i) {
-      double fni = fn_mag * n[i];
-      if constexpr (kVisco) fni -= visc[k] * n[i];
-      const double f = fni + fs[i];
+      const double f = fn[i] + fs[i];
       for (int j = 0; j < 3; ++j) out->v[3 * i + j][k] = f * -l[j];
     }
     const double l2 = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
@@ -68,23 +66,20 @@ MPMDEM_ALWAYS_INLINE void contributions_body(
   }
 }
 
-#define MPMDEM_CONTRIBUTION_ARGS                                                              \
-  std::size_t m, const double(&h)[3][3], double young, double ks_kn,                          \
-      const StagedContacts *__restrict st, const double *__restrict nx,                       \
-      const double *__restrict ny, const double *__restrict nz, const double *__restrict sx,  \
-      const double *__restrict sy, const double *__restrict sz, const double *__restrict pen, \
-      const double *__restrict x0, const double *__restrict x1, const double *__restrict x2,  \
-      const double *__restrict rad
-MPMDEM_SIMD_CLONES void contributions(MPMDEM_CONTRIBUTION_ARGS, Contributions* __restrict out) {
-  contributions_body<false>(m, h, young, ks_kn, st, nx, ny, nz, sx, sy, sz, pen, x0, x1, x2, rad,
-                            nullptr, out);
+// One loop per law, compiled for AVX-512, AVX2 and the baseline (SIMD clones).
+template <class Law>
+MPMDEM_SIMD_CLONES void contributions(std::size_t m, const double (&h)[3][3], double young,
+                                      double ks_kn, const StagedContacts* __restrict st,
+                                      const double* __restrict nx, const double* __restrict ny,
+                                      const double* __restrict nz, const double* __restrict sx,
+                                      const double* __restrict sy, const double* __restrict sz,
+                                      const double* __restrict pen, const double* __restrict x0,
+                                      const double* __restrict x1, const double* __restrict x2,
+                                      const double* __restrict rad, const double* __restrict visc,
+                                      Contributions* __restrict out) {
+  contributions_body<Law>(m, h, young, ks_kn, st, nx, ny, nz, sx, sy, sz, pen, x0, x1, x2, rad,
+                          visc, out);
 }
-MPMDEM_SIMD_CLONES void contributions_visco(MPMDEM_CONTRIBUTION_ARGS, const double* __restrict visc,
-                                            Contributions* __restrict out) {
-  contributions_body<true>(m, h, young, ks_kn, st, nx, ny, nz, sx, sy, sz, pen, x0, x1, x2, rad,
-                           visc, out);
-}
-#undef MPMDEM_CONTRIBUTION_ARGS
 
 // lanes[t][k mod kLanes] += out.v[t][k] for k < m, in the order of k.
 void add_to_lanes(double (&lanes)[kTerms][kLanes], const Contributions& out, std::size_t m) {
@@ -112,22 +107,15 @@ StressStiffness stress_and_stiffness(const RveState& s, bool stiffness) {
   for (std::size_t k0 = 0; !done && k0 < c.size(); k0 += kChunk) {
     const std::size_t m = std::min(kChunk, c.size() - k0);
     stage_contacts(s, k0, m, st);
-    if (c.viscous) {
-      contributions_visco(
+    visit_law(s.law.kind, [&](auto law) {
+      using Law = decltype(law);
+      contributions<Law>(
           m, h, s.material.young, s.material.ks_kn, &st, c.normal.c[0].data() + k0,
           c.normal.c[1].data() + k0, c.normal.c[2].data() + k0, c.shear_force.c[0].data() + k0,
           c.shear_force.c[1].data() + k0, c.shear_force.c[2].data() + k0, c.penetration.data() + k0,
           s.spheres.pos.c[0].data(), s.spheres.pos.c[1].data(), s.spheres.pos.c[2].data(),
-          s.spheres.radius.data(), c.normal_viscous.data() + k0, &out);
-      add_to_lanes(lanes, out, m);
-      continue;
-    }
-    contributions(m, h, s.material.young, s.material.ks_kn, &st, c.normal.c[0].data() + k0,
-                  c.normal.c[1].data() + k0, c.normal.c[2].data() + k0,
-                  c.shear_force.c[0].data() + k0, c.shear_force.c[1].data() + k0,
-                  c.shear_force.c[2].data() + k0, c.penetration.data() + k0,
-                  s.spheres.pos.c[0].data(), s.spheres.pos.c[1].data(), s.spheres.pos.c[2].data(),
-                  s.spheres.radius.data(), &out);
+          s.spheres.radius.data(), Law::kViscous ? c.normal_viscous.data() + k0 : nullptr, &out);
+    });
     add_to_lanes(lanes, out, m);
   }
   Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();

@@ -17,6 +17,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "backends/contact_laws/table1.hpp"
 #include "backends/native/cell_regularisation.hpp"
 #include "backends/native/integrator.hpp"
 #include "backends/native/measures.hpp"
@@ -31,7 +32,6 @@ namespace {
 
 using RowMajor3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
 using native::RveRecord;
-constexpr double kTable1RadiusMin = 0.92e-3, kTable1RadiusMax = 1.38e-3;  // [m]
 
 std::int32_t as_int(protocol::RveStatus s) {
   return static_cast<std::int32_t>(s);
@@ -83,9 +83,9 @@ const NativeBackend::Packing& NativeBackend::packing(const std::string& name) {
 native::RveState NativeBackend::cloud(std::uint64_t point) const {
   native::CloudParams c;
   c.n_spheres = p_.inline_spheres;
-  c.r_min = kTable1RadiusMin;
-  c.r_max = kTable1RadiusMax;
-  c.material.friction_angle = std::atan(0.518);
+  c.r_min = dem::laws::table1::kRadiusMin;  // Table 1's grains (backends/contact_laws/table1.hpp)
+  c.r_max = dem::laws::table1::kRadiusMax;
+  c.material.friction_angle = std::atan(dem::laws::table1::kFriction);
   c.seed = static_cast<std::uint64_t>(p_.seed) + point;
   native::RveState s = native::build_cloud(c);
   native::set_contact_law(s, p_.law);

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "backends/contact_laws/table1.hpp"
 #include "backends/native/contact_law.hpp"
 #include "backends/native/periodic_cell.hpp"
 
@@ -25,10 +26,10 @@ using CellDist = Eigen::Matrix<std::int16_t, 3, 1>;
 CellDist to_cell_dist(const Eigen::Vector3i& c);
 
 struct Material {
-  double young = 6e8;         // contact modulus E [Pa]
-  double ks_kn = 0.8;         // FrictMat.poisson: ks/kn in Ip2_FrictMat_FrictMat_FrictPhys
-  double density = 2500;      // [kg/m3]
-  double friction_angle = 0;  // [rad]; tan of it caps |Fs|/|Fn|
+  double young = laws::table1::kYoung;  // contact modulus E [Pa]
+  double ks_kn = laws::table1::kKsKn;   // FrictMat.poisson: ks/kn (Ip2_FrictMat_FrictMat_FrictPhys)
+  double density = laws::table1::kDensity;  // [kg/m3]
+  double friction_angle = 0;                // [rad]; tan of it caps |Fs|/|Fn|
 };
 
 // A per-sphere or per-contact vector field stored xyz split: one contiguous array per
@@ -128,16 +129,16 @@ struct RveState {
   std::int64_t iter = 0;
 };
 
-// kn and ks of contact k (Ip2_FrictMat_FrictMat_FrictPhys from the two radii and the RVE's
-// one material, the same bits at every call; tan_phi 0). With one material ks = (ks/kn) kn
-// (YADE's second harmonic mean, to rounding, without its division).
+// kn and ks of contact k: the RVE's law's stiffness (contact_laws/frict.hpp: Ip2_FrictMat_FrictMat_
+// FrictPhys from the two radii and the RVE's one material), the same bits as the kernels';
+// tan_phi 0.
 inline FrictPhys contact_stiffness(const RveState& s, std::size_t k) {
   const Material& m = s.material;
-  const double e1 = m.young * s.spheres.radius[s.contacts.id1[k]];
-  const double e2 = m.young * s.spheres.radius[s.contacts.id2[k]];
+  const double r1 = s.spheres.radius[s.contacts.id1[k]];
+  const double r2 = s.spheres.radius[s.contacts.id2[k]];
   FrictPhys f;
-  f.kn = 2 * e1 * e2 / (e1 + e2);
-  f.ks = m.ks_kn * f.kn;
+  visit_law(s.law.kind,
+            [&](auto law) { decltype(law)::stiffness(m.young, m.ks_kn, r1, r2, f.kn, f.ks); });
   f.tan_phi = 0;
   return f;
 }
@@ -145,13 +146,19 @@ inline FrictPhys contact_stiffness(const RveState& s, std::size_t k) {
 // The law of every contact of s (and the contacts' normal_viscous kept or released with it).
 void set_contact_law(RveState& s, const ContactLaw& law);
 
-// FrictPhys::normalForce of the last step, recomputed exactly as CundallStrack computed it;
-// with frict_visco its dashpot part included (FrictViscoPhys::normalForce).
+// FrictPhys::normalForce of the last step, recomputed exactly as the law computed it (its
+// stored_normal_force); with frict_visco its dashpot part included
+// (FrictViscoPhys::normalForce).
 inline Vec3 normal_force(const RveState& s, std::size_t k) {
-  const Vec3 n = s.contacts.normal[k];
-  const Vec3 elastic = contact_stiffness(s, k).kn * std::max(s.contacts.penetration[k], 0.0) * n;
-  if (!s.contacts.viscous) return elastic;
-  return elastic - s.contacts.normal_viscous[k] * n;
+  const double kn = contact_stiffness(s, k).kn;
+  const Vec3 nv = s.contacts.normal[k];
+  const double n[3] = {nv[0], nv[1], nv[2]};
+  const double visc = s.contacts.viscous ? s.contacts.normal_viscous[k] : 0.0;
+  double fn[3];
+  visit_law(s.law.kind, [&](auto law) {
+    decltype(law)::stored_normal_force(kn, s.contacts.penetration[k], visc, n, fn);
+  });
+  return Vec3(fn[0], fn[1], fn[2]);
 }
 
 // Its elastic part kn max(pen, 0) n (the spring's energy).

@@ -111,11 +111,9 @@ inline double flip_fraction(const SolverParams& sp, double dt) {
 // The constitutive model's name for `remote` (RVEs on dem_app); every other name is a local
 // model of the registry (constitutive/model_registry.hpp).
 inline constexpr const char* kRemoteModel = "remote";
-// How the Drucker-Prager cone is fitted to Mohr-Coulomb (constitutive/drucker_prager.hpp).
-enum class ConeMatching { kCompression, kPlaneStrain };
-// A local model's own parameters beyond the fields of ConstitutiveParams (a model registered
-// outside mpm_app's sources, e.g. in a test): its load hook sets them, its make hook reads
-// them (dynamic_cast to its own type).
+// A local model's own parameters beyond the elastic moduli (drucker_prager's
+// DruckerPragerParams, a model registered in a test): its load hook sets them, its make hook
+// reads them (dynamic_cast to its own type).
 struct ModelParams {
   virtual ~ModelParams() = default;
 };
@@ -127,23 +125,7 @@ struct ConstitutiveParams {
   // (1/2 sigma : C^-1 : sigma) and the elastic verifications use.
   double youngs_modulus = 1e7;  // [Pa]
   double poisson_ratio = 0.3;   // [-]
-  // drucker_prager only:
-  double friction_angle_deg = 30.0;  // Mohr-Coulomb friction angle phi [deg]
-  double dilation_angle_deg = 0.0;   // psi, 0 <= psi <= phi [deg]
-  double cohesion = 0.0;             // Mohr-Coulomb cohesion c [Pa]
-  ConeMatching matching = ConeMatching::kCompression;
-  // J_c: a point whose volume exceeds J_c times its initial volume is disconnected (no
-  // stress, no stiffness) until compacted below it again; 0: never.
-  double disconnection_volume_ratio = 0.0;
-  // mu(I) (constitutive.drucker_prager.mu_i; Jop, Forterre & Pouliquen 2006): the cone's slope
-  // grows from that of friction_angle_deg to that of mu_i_friction_angle_2_deg with the
-  // inertial number I = gamma_dot_p d / sqrt(p / rho_s) of the plastic shear rate,
-  // eta(I) = eta_s + (eta_2 - eta_s) I / (I_0 + I). mu_i_friction_angle_2_deg = 0: off.
-  double mu_i_friction_angle_2_deg = 0.0;
-  double mu_i_inertial_number_0 = 0.279;
-  double mu_i_grain_diameter = 0.0;  // d [m]
-  double mu_i_grain_density = 0.0;   // rho_s [kg/m3]
-  // Any other local model's parameters (null for the built-in ones).
+  // The model's own parameters (null for linear_elastic and remote).
   std::shared_ptr<const ModelParams> own;
 };
 

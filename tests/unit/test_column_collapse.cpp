@@ -17,6 +17,7 @@
 
 #include "analysis/column_collapse.hpp"
 #include "config/scene_loader.hpp"
+#include "constitutive/drucker_prager.hpp"
 #include "output/checkpoint.hpp"
 #include "run_driver.hpp"
 #include "test_support.hpp"
@@ -192,9 +193,9 @@ TEST(ColumnCollapse, DisconnectedStateBringsApicWithAFlipShareToRest) {
   const Scene disc =
       load_scene(std::string(MPMDEM_SOURCE_DIR) + "/configs/column_collapse_mc_apic.yaml");
   ASSERT_EQ(disc.solver.transfer, Transfer::kAPIC);
-  ASSERT_EQ(disc.constitutive.disconnection_volume_ratio, 1.5);
+  ASSERT_EQ(drucker_prager_params(disc.constitutive).disconnection_volume_ratio, 1.5);
   Scene apic = disc;  // the same without the disconnected state
-  apic.constitutive.disconnection_volume_ratio = 0.0;
+  edit_drucker_prager_params(apic.constitutive).disconnection_volume_ratio = 0.0;
   apic.solver.on_exit = OnExit::kRemove;
   Scene shipped = mc_scene();  // PIC/FLIP, on the same domain
   shipped.grid.extent.x() = disc.grid.extent.x();
@@ -272,7 +273,7 @@ TEST(ColumnCollapse, HigherFrictionRunsOutLessAndStandsTaller) {
   TempDir d20("phi20"), d35("phi35");
   Scene low = mc_scene();
   Scene high = mc_scene();
-  high.constitutive.friction_angle_deg = 35.0;
+  edit_drucker_prager_params(high.constitutive).friction_angle_deg = 35.0;
   const ColumnRun a = run(low, d20.str());
   const ColumnRun b = run(high, d35.str());
   ASSERT_EQ(a.result.exit_code, 0);

@@ -35,10 +35,11 @@ ConstitutiveParams dp_params(double phi_deg, double psi_deg = 0.0, double c = 0.
   p.model = "drucker_prager";
   p.youngs_modulus = 1.0e7;
   p.poisson_ratio = 0.3;
-  p.friction_angle_deg = phi_deg;
-  p.dilation_angle_deg = psi_deg;
-  p.cohesion = c;
-  p.matching = matching;
+  DruckerPragerParams& dp = edit_drucker_prager_params(p);
+  dp.friction_angle_deg = phi_deg;
+  dp.dilation_angle_deg = psi_deg;
+  dp.cohesion = c;
+  dp.matching = matching;
   return p;
 }
 
@@ -293,7 +294,7 @@ TEST(DruckerPrager, PureRotationRotatesTheStress) {
 // path never disconnects. A checkpoint carries the volume ratios.
 TEST(DruckerPrager, DisconnectsBeyondTheVolumeRatioAndReconnectsFromZeroStress) {
   ConstitutiveParams params = dp_params(30.0);
-  params.disconnection_volume_ratio = 1.5;
+  edit_drucker_prager_params(params).disconnection_volume_ratio = 1.5;
   const DruckerPragerLaw law(params);
   const auto no_contacts = PointState::kNoContacts;
   const auto ok = PointState::kOk;
@@ -349,7 +350,7 @@ TEST(DruckerPrager, DisconnectsBeyondTheVolumeRatioAndReconnectsFromZeroStress) 
   EXPECT_EQ(out_resumed[0].stress, law.update(Mat3::Zero(), 0.9 * Mat3::Identity()));
   EXPECT_THROW(resumed->load_state({1.0, 1.0}), std::runtime_error);
   // Ratios at or below 1 would disconnect points that did not dilate.
-  params.disconnection_volume_ratio = 1.0;
+  edit_drucker_prager_params(params).disconnection_volume_ratio = 1.0;
   EXPECT_THROW(make_drucker_prager(params), std::invalid_argument);
 }
 
@@ -521,6 +522,24 @@ std::string load_error(const std::string& name, const std::string& text) {
 
 }  // namespace
 
+// The registry's contract (model_registry.hpp): the model's own parameters live in
+// ConstitutiveParams::own, which its load hook fills and its make hook reads; a copy changed
+// with edit_drucker_prager_params leaves the original as it was.
+TEST(DruckerPragerConfig, ParametersAreTheModelsOwn) {
+  const Scene a = load_scene(write_scene("own.yaml", scene_text("  drucker_prager:\n"
+                                                                "    youngs_modulus: 2e6\n"
+                                                                "    poisson_ratio: 0.25\n"
+                                                                "    friction_angle_deg: 22\n")));
+  ASSERT_NE(dynamic_cast<const DruckerPragerParams*>(a.constitutive.own.get()), nullptr);
+  Scene b = a;
+  edit_drucker_prager_params(b.constitutive).friction_angle_deg = 35.0;
+  EXPECT_EQ(drucker_prager_params(a.constitutive).friction_angle_deg, 22.0);
+  EXPECT_EQ(drucker_prager_params(b.constitutive).friction_angle_deg, 35.0);
+  ConstitutiveParams elastic;  // linear_elastic: no parameters of drucker_prager
+  EXPECT_THROW(drucker_prager_params(elastic), std::invalid_argument);
+  EXPECT_THROW(make_drucker_prager(elastic), std::invalid_argument);
+}
+
 TEST(DruckerPragerConfig, KeysDefaultsAndChecks) {
   const Scene a =
       load_scene(write_scene("defaults.yaml", scene_text("  drucker_prager:\n"
@@ -530,11 +549,11 @@ TEST(DruckerPragerConfig, KeysDefaultsAndChecks) {
   EXPECT_EQ(a.constitutive.model, "drucker_prager");
   EXPECT_EQ(a.constitutive.youngs_modulus, 2e6);
   EXPECT_EQ(a.constitutive.poisson_ratio, 0.25);
-  EXPECT_EQ(a.constitutive.friction_angle_deg, 22.0);
-  EXPECT_EQ(a.constitutive.dilation_angle_deg, 0.0);
-  EXPECT_EQ(a.constitutive.cohesion, 0.0);
-  EXPECT_EQ(a.constitutive.matching, ConeMatching::kCompression);
-  EXPECT_EQ(a.constitutive.disconnection_volume_ratio, 0.0);
+  EXPECT_EQ(drucker_prager_params(a.constitutive).friction_angle_deg, 22.0);
+  EXPECT_EQ(drucker_prager_params(a.constitutive).dilation_angle_deg, 0.0);
+  EXPECT_EQ(drucker_prager_params(a.constitutive).cohesion, 0.0);
+  EXPECT_EQ(drucker_prager_params(a.constitutive).matching, ConeMatching::kCompression);
+  EXPECT_EQ(drucker_prager_params(a.constitutive).disconnection_volume_ratio, 0.0);
   const Scene b = load_scene(write_scene("given.yaml", scene_text("  drucker_prager:\n"
                                                                   "    youngs_modulus: 2e6\n"
                                                                   "    poisson_ratio: 0.25\n"
@@ -544,10 +563,10 @@ TEST(DruckerPragerConfig, KeysDefaultsAndChecks) {
                                                                   "    matching: plane_strain\n"
                                                                   "    disconnection_volume_ratio: "
                                                                   "1.5\n")));
-  EXPECT_EQ(b.constitutive.dilation_angle_deg, 5.0);
-  EXPECT_EQ(b.constitutive.cohesion, 100.0);
-  EXPECT_EQ(b.constitutive.matching, ConeMatching::kPlaneStrain);
-  EXPECT_EQ(b.constitutive.disconnection_volume_ratio, 1.5);
+  EXPECT_EQ(drucker_prager_params(b.constitutive).dilation_angle_deg, 5.0);
+  EXPECT_EQ(drucker_prager_params(b.constitutive).cohesion, 100.0);
+  EXPECT_EQ(drucker_prager_params(b.constitutive).matching, ConeMatching::kPlaneStrain);
+  EXPECT_EQ(drucker_prager_params(b.constitutive).disconnection_volume_ratio, 1.5);
   const std::string jc = load_error("jc.yaml", scene_text("  drucker_prager:\n"
                                                           "    youngs_modulus: 2e6\n"
                                                           "    poisson_ratio: 0.25\n"

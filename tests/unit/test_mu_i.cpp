@@ -27,13 +27,14 @@ ConstitutiveParams mu_i_params(double phi_deg, double phi_2_deg, double c = 0.0)
   p.model = "drucker_prager";
   p.youngs_modulus = 1.0e9;
   p.poisson_ratio = 0.3;
-  p.friction_angle_deg = phi_deg;
-  p.cohesion = c;
-  p.matching = ConeMatching::kPlaneStrain;
-  p.mu_i_friction_angle_2_deg = phi_2_deg;
-  p.mu_i_inertial_number_0 = kI0;
-  p.mu_i_grain_diameter = kD;
-  p.mu_i_grain_density = kRhoS;
+  DruckerPragerParams& dp = edit_drucker_prager_params(p);
+  dp.friction_angle_deg = phi_deg;
+  dp.cohesion = c;
+  dp.matching = ConeMatching::kPlaneStrain;
+  dp.mu_i_friction_angle_2_deg = phi_2_deg;
+  dp.mu_i_inertial_number_0 = kI0;
+  dp.mu_i_grain_diameter = kD;
+  dp.mu_i_grain_density = kRhoS;
   return p;
 }
 
@@ -64,7 +65,7 @@ TEST(MuI, SlopeFollowsTheLawBetweenItsLimits) {
   EXPECT_TRUE(std::isinf(law.inertial_number(1e-4, 0.0, 1e-3)));
   // without mu_i the slope is eta_s at any I
   ConstitutiveParams off = mu_i_params(20.0, 36.9);
-  off.mu_i_friction_angle_2_deg = 0.0;
+  edit_drucker_prager_params(off).mu_i_friction_angle_2_deg = 0.0;
   const DruckerPragerLaw plain(off);
   EXPECT_FALSE(plain.rate_dependent());
   EXPECT_EQ(plain.slope(10.0), plain.eta());
@@ -74,10 +75,10 @@ TEST(MuI, InvalidParametersAreRefused) {
   EXPECT_THROW(DruckerPragerLaw(mu_i_params(20.0, 20.0)), std::invalid_argument);
   EXPECT_THROW(DruckerPragerLaw(mu_i_params(20.0, 90.0)), std::invalid_argument);
   ConstitutiveParams p = mu_i_params(20.0, 30.0);
-  p.mu_i_grain_diameter = 0.0;
+  edit_drucker_prager_params(p).mu_i_grain_diameter = 0.0;
   EXPECT_THROW(DruckerPragerLaw{p}, std::invalid_argument);
   p = mu_i_params(20.0, 30.0);
-  p.mu_i_inertial_number_0 = -1.0;
+  edit_drucker_prager_params(p).mu_i_inertial_number_0 = -1.0;
   EXPECT_THROW(DruckerPragerLaw{p}, std::invalid_argument);
 }
 
@@ -152,7 +153,7 @@ TEST(MuI, SteadySimpleShearGivesMuOfTheImposedInertialNumber) {
 TEST(MuI, SlowStepsReturnTheRateIndependentLaw) {
   const DruckerPragerLaw law(mu_i_params(20.0, 36.9));
   ConstitutiveParams off = mu_i_params(20.0, 36.9);
-  off.mu_i_friction_angle_2_deg = 0.0;
+  edit_drucker_prager_params(off).mu_i_friction_angle_2_deg = 0.0;
   const DruckerPragerLaw plain(off);
   Mat3 dev;
   dev << 0.7, 0.2, -0.1, 0.2, -0.4, 0.3, -0.1, 0.3, -0.3;
@@ -197,16 +198,16 @@ TEST(MuIConfig, KeysDefaultsAndChecks) {
                                                  "    poisson_ratio: 0.3\n"
                                                  "    friction_angle_deg: 20\n");
   const Scene none = load_scene(config_test::write_file("mu_i_none.yaml", base));
-  EXPECT_EQ(none.constitutive.mu_i_friction_angle_2_deg, 0.0);
+  EXPECT_EQ(drucker_prager_params(none.constitutive).mu_i_friction_angle_2_deg, 0.0);
   const Scene given = load_scene(
       config_test::write_file("mu_i_given.yaml", base + "    mu_i:\n"
                                                         "      friction_angle_2_deg: 36.9\n"
                                                         "      grain_diameter: 2.3e-3\n"
                                                         "      grain_density: 2500\n"));
-  EXPECT_EQ(given.constitutive.mu_i_friction_angle_2_deg, 36.9);
-  EXPECT_EQ(given.constitutive.mu_i_inertial_number_0, 0.279);
-  EXPECT_EQ(given.constitutive.mu_i_grain_diameter, 2.3e-3);
-  EXPECT_EQ(given.constitutive.mu_i_grain_density, 2500.0);
+  EXPECT_EQ(drucker_prager_params(given.constitutive).mu_i_friction_angle_2_deg, 36.9);
+  EXPECT_EQ(drucker_prager_params(given.constitutive).mu_i_inertial_number_0, 0.279);
+  EXPECT_EQ(drucker_prager_params(given.constitutive).mu_i_grain_diameter, 2.3e-3);
+  EXPECT_EQ(drucker_prager_params(given.constitutive).mu_i_grain_density, 2500.0);
   const std::string low =
       config_test::load_error("mu_i_low.yaml", base +
                                                    "    mu_i:\n"

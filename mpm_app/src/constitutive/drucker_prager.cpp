@@ -27,8 +27,25 @@ double cone_slope(ConeMatching matching, double sin_phi, double sin_psi) {
 
 }  // namespace
 
-DruckerPragerLaw::DruckerPragerLaw(const ConstitutiveParams& params)
-    : E_(params.youngs_modulus), nu_(params.poisson_ratio), c_(params.cohesion) {
+const DruckerPragerParams& drucker_prager_params(const ConstitutiveParams& params) {
+  if (const auto* own = dynamic_cast<const DruckerPragerParams*>(params.own.get())) return *own;
+  throw std::invalid_argument("constitutive parameters of model '" + params.model +
+                              "' hold no drucker_prager parameters (ConstitutiveParams::own)");
+}
+
+DruckerPragerParams& edit_drucker_prager_params(ConstitutiveParams& params) {
+  auto own = params.own ? std::make_shared<DruckerPragerParams>(drucker_prager_params(params))
+                        : std::make_shared<DruckerPragerParams>();
+  params.own = own;
+  return *own;
+}
+
+DruckerPragerLaw::DruckerPragerLaw(const ConstitutiveParams& constitutive)
+    : DruckerPragerLaw(constitutive, drucker_prager_params(constitutive)) {}
+
+DruckerPragerLaw::DruckerPragerLaw(const ConstitutiveParams& constitutive,
+                                   const DruckerPragerParams& params)
+    : E_(constitutive.youngs_modulus), nu_(constitutive.poisson_ratio), c_(params.cohesion) {
   const double phi_deg = params.friction_angle_deg, psi_deg = params.dilation_angle_deg;
   if (!(E_ > 0.0) || !(nu_ > -1.0 && nu_ < 0.5) || !(phi_deg > 0.0 && phi_deg < 90.0) ||
       !(psi_deg >= 0.0 && psi_deg <= phi_deg) || !(c_ >= 0.0)) {
@@ -248,12 +265,13 @@ class DruckerPragerProvider final : public ConstitutiveProvider {
 }  // namespace
 
 std::unique_ptr<ConstitutiveProvider> make_drucker_prager(const ConstitutiveParams& params) {
-  if (params.disconnection_volume_ratio != 0.0 && !(params.disconnection_volume_ratio > 1.0)) {
+  const DruckerPragerParams& dp = drucker_prager_params(params);
+  if (dp.disconnection_volume_ratio != 0.0 && !(dp.disconnection_volume_ratio > 1.0)) {
     throw std::invalid_argument("drucker_prager needs disconnection_volume_ratio 0 or > 1, got " +
-                                std::to_string(params.disconnection_volume_ratio));
+                                std::to_string(dp.disconnection_volume_ratio));
   }
   return std::make_unique<DruckerPragerProvider>(DruckerPragerLaw(params),
-                                                 params.disconnection_volume_ratio);
+                                                 dp.disconnection_volume_ratio);
 }
 
 }  // namespace mpmdem::mpm

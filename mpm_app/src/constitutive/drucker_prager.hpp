@@ -66,11 +66,40 @@
 
 namespace mpmdem::mpm {
 
+// How the cone is fitted to Mohr-Coulomb (the file comment).
+enum class ConeMatching { kCompression, kPlaneStrain };
+
+// drucker_prager's own parameters, beyond the elastic moduli of ConstitutiveParams: its
+// ConstitutiveParams::own, read from constitutive.drucker_prager (drucker_prager_model.cpp).
+struct DruckerPragerParams final : ModelParams {
+  double friction_angle_deg = 30.0;  // Mohr-Coulomb friction angle phi [deg]
+  double dilation_angle_deg = 0.0;   // psi, 0 <= psi <= phi [deg]
+  double cohesion = 0.0;             // Mohr-Coulomb cohesion c [Pa]
+  ConeMatching matching = ConeMatching::kCompression;
+  // J_c: a point whose volume exceeds J_c times its initial volume is disconnected (no
+  // stress, no stiffness) until compacted below it again; 0: never.
+  double disconnection_volume_ratio = 0.0;
+  // mu(I) (constitutive.drucker_prager.mu_i; the file comment): the cone's slope grows from
+  // that of friction_angle_deg to that of mu_i_friction_angle_2_deg with the inertial number.
+  // mu_i_friction_angle_2_deg = 0: off.
+  double mu_i_friction_angle_2_deg = 0.0;
+  double mu_i_inertial_number_0 = 0.279;
+  double mu_i_grain_diameter = 0.0;  // d [m]
+  double mu_i_grain_density = 0.0;   // rho_s [kg/m3]
+};
+
+// The drucker_prager parameters in params.own; std::invalid_argument if it holds none.
+const DruckerPragerParams& drucker_prager_params(const ConstitutiveParams& params);
+// A copy of them (default ones if params.own is empty) put into params.own for the caller to
+// change; other copies of params keep theirs. std::invalid_argument if params.own holds
+// another model's parameters.
+DruckerPragerParams& edit_drucker_prager_params(ConstitutiveParams& params);
+
 class DruckerPragerLaw {
  public:
-  // Throws std::invalid_argument unless E > 0, -1 < nu < 0.5, 0 < phi < 90 deg,
-  // 0 <= psi <= phi and c >= 0, and with mu(I) unless phi < phi_2 < 90 deg, I_0 > 0, d > 0
-  // and rho_s > 0.
+  // E and nu from params, the rest from params.own (DruckerPragerParams). Throws
+  // std::invalid_argument unless E > 0, -1 < nu < 0.5, 0 < phi < 90 deg, 0 <= psi <= phi
+  // and c >= 0, and with mu(I) unless phi < phi_2 < 90 deg, I_0 > 0, d > 0 and rho_s > 0.
   explicit DruckerPragerLaw(const ConstitutiveParams& params);
 
   double bulk_modulus() const { return K_; }
@@ -85,7 +114,7 @@ class DruckerPragerLaw {
 
   // f(sigma) = q - eta p - xi c [Pa]; <= 0 on or inside the cone.
   double yield_function(const Mat3& sigma) const;
-  // True when mu(I) is on (ConstitutiveParams::mu_i_friction_angle_2_deg > 0).
+  // True when mu(I) is on (DruckerPragerParams::mu_i_friction_angle_2_deg > 0).
   bool rate_dependent() const { return mu_i_; }
   // eta(I), the cone's slope at inertial number I (eta_s without mu(I)).
   double slope(double inertial_number) const;
@@ -103,16 +132,18 @@ class DruckerPragerLaw {
   double strain_energy_density(const Mat3& sigma) const;
 
  private:
+  DruckerPragerLaw(const ConstitutiveParams& params, const DruckerPragerParams& own);
+
   double E_, nu_, K_, G_, lambda_;
   double eta_, eta_g_, xi_, c_, p_apex_;
   bool mu_i_ = false;
   double eta_2_ = 0.0, i_0_ = 0.0, d_ = 0.0, rho_s_ = 0.0;
 };
 
-// Reads youngs_modulus, poisson_ratio, friction_angle_deg, dilation_angle_deg, cohesion,
-// matching, the mu_i_* parameters and disconnection_volume_ratio (the disconnected state,
-// drucker_prager.cpp) of params. Throws std::invalid_argument for a ratio that is neither 0 nor
-// > 1.
+// Reads youngs_modulus and poisson_ratio of params, and friction_angle_deg, dilation_angle_deg,
+// cohesion, matching, the mu_i_* parameters and disconnection_volume_ratio (the disconnected
+// state, drucker_prager.cpp) of its DruckerPragerParams. Throws std::invalid_argument for a
+// ratio that is neither 0 nor > 1.
 std::unique_ptr<ConstitutiveProvider> make_drucker_prager(const ConstitutiveParams& params);
 
 }  // namespace mpmdem::mpm

@@ -1,6 +1,8 @@
 // The model `drucker_prager` (model_registry.hpp): its section constitutive.drucker_prager,
 // how it is read, and its summary figures. The law and the provider: drucker_prager.hpp.
+#include <memory>
 #include <string>
+#include <utility>
 
 #include "constitutive/drucker_prager.hpp"
 #include "constitutive/model_registry.hpp"
@@ -70,46 +72,48 @@ void add_keys(config::Schema& s, const std::string& k) {
             .gt(0));
 }
 
-void load(const config::Config& cfg, const std::string& k, ConstitutiveParams& c) {
-  load_elastic_moduli(cfg, k, c);
-  c.friction_angle_deg = cfg.number(k + ".friction_angle_deg");
-  c.dilation_angle_deg = cfg.number(k + ".dilation_angle_deg");
-  c.cohesion = cfg.number(k + ".cohesion");
-  c.disconnection_volume_ratio = cfg.number(k + ".disconnection_volume_ratio");
-  if (c.disconnection_volume_ratio > 0.0 && c.disconnection_volume_ratio <= 1.0) {
+void load(const config::Config& cfg, const std::string& k, ConstitutiveParams& params) {
+  load_elastic_moduli(cfg, k, params);
+  auto c = std::make_shared<DruckerPragerParams>();
+  c->friction_angle_deg = cfg.number(k + ".friction_angle_deg");
+  c->dilation_angle_deg = cfg.number(k + ".dilation_angle_deg");
+  c->cohesion = cfg.number(k + ".cohesion");
+  c->disconnection_volume_ratio = cfg.number(k + ".disconnection_volume_ratio");
+  if (c->disconnection_volume_ratio > 0.0 && c->disconnection_volume_ratio <= 1.0) {
     cfg.fail(k + ".disconnection_volume_ratio",
-             config::format_number(c.disconnection_volume_ratio) +
+             config::format_number(c->disconnection_volume_ratio) +
                  " would disconnect points at or below their initial volume; give a ratio "
                  "above 1 (e.g. 1.5) or 0 (never)");
   }
-  c.matching = cfg.string(k + ".matching") == "plane_strain" ? ConeMatching::kPlaneStrain
-                                                             : ConeMatching::kCompression;
+  c->matching = cfg.string(k + ".matching") == "plane_strain" ? ConeMatching::kPlaneStrain
+                                                              : ConeMatching::kCompression;
   if (cfg.has(k + ".mu_i")) {
-    c.mu_i_friction_angle_2_deg = cfg.number(k + ".mu_i.friction_angle_2_deg");
-    c.mu_i_inertial_number_0 = cfg.number(k + ".mu_i.inertial_number_0");
-    c.mu_i_grain_diameter = cfg.number(k + ".mu_i.grain_diameter");
-    c.mu_i_grain_density = cfg.number(k + ".mu_i.grain_density");
-    if (!(c.mu_i_friction_angle_2_deg > c.friction_angle_deg)) {
+    c->mu_i_friction_angle_2_deg = cfg.number(k + ".mu_i.friction_angle_2_deg");
+    c->mu_i_inertial_number_0 = cfg.number(k + ".mu_i.inertial_number_0");
+    c->mu_i_grain_diameter = cfg.number(k + ".mu_i.grain_diameter");
+    c->mu_i_grain_density = cfg.number(k + ".mu_i.grain_density");
+    if (!(c->mu_i_friction_angle_2_deg > c->friction_angle_deg)) {
       cfg.fail(k + ".mu_i.friction_angle_2_deg",
-               config::format_number(c.mu_i_friction_angle_2_deg) +
+               config::format_number(c->mu_i_friction_angle_2_deg) +
                    " is not above friction_angle_deg " +
-                   config::format_number(c.friction_angle_deg) +
+                   config::format_number(c->friction_angle_deg) +
                    "; mu(I) needs the limit angle above the angle at rest (or drop the "
                    "mu_i section for a rate-independent law)");
     }
   }
-  if (c.dilation_angle_deg > c.friction_angle_deg) {
+  if (c->dilation_angle_deg > c->friction_angle_deg) {
     cfg.fail(k + ".dilation_angle_deg",
-             config::format_number(c.dilation_angle_deg) + " is larger than friction_angle_deg " +
-                 config::format_number(c.friction_angle_deg) +
+             config::format_number(c->dilation_angle_deg) + " is larger than friction_angle_deg " +
+                 config::format_number(c->friction_angle_deg) +
                  "; the dilation angle must not exceed the friction angle");
   }
+  params.own = std::move(c);
 }
 
 // The disconnected state (when on): point updates spent disconnected, and the points
 // disconnected at the end.
-Figures figures(const ConstitutiveParams& c, const Solver& solver) {
-  if (!(c.disconnection_volume_ratio > 0.0)) return {};
+Figures figures(const ConstitutiveParams& params, const Solver& solver) {
+  if (!(drucker_prager_params(params).disconnection_volume_ratio > 0.0)) return {};
   return {{"disconnected_point_updates", static_cast<double>(solver.no_contact_updates())},
           {"disconnected_points_final", static_cast<double>(solver.no_contact_points())}};
 }

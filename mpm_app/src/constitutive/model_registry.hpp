@@ -34,9 +34,9 @@ struct LocalModel {
   // itself is declared by the registry).
   void (*add_keys)(config::Schema& schema, const std::string& section) = nullptr;
   // Reads the section (present in the file) into params: youngs_modulus and poisson_ratio
-  // (the elastic moduli: energy budget, verification), the model's own parameters (the
-  // fields of ConstitutiveParams, or params.own), and the checks that involve several keys
-  // (cfg.fail names key, value, file and line).
+  // (the elastic moduli: energy budget, verification), the model's own parameters (a
+  // struct derived from ModelParams, in params.own), and the checks that involve several
+  // keys (cfg.fail names key, value, file and line).
   void (*load)(const config::Config& cfg, const std::string& section,
                ConstitutiveParams& params) = nullptr;
   // The provider for a run (throws std::invalid_argument for parameters it cannot use).

@@ -103,9 +103,6 @@ class RveDriver {
   void forget() { last_reply_.clear(); }
   // The faults of the last initialised()/step(), for RankReport::message; empty if none.
   const std::string& last_fault() const { return fault_; }
-  int n_substeps(const protocol::RveRequest& req, double dem_dt) const {
-    return rule_.count(req, dem_dt);
-  }
   const SubstepRule& rule() const { return rule_; }
 
  private:

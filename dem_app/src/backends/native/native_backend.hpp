@@ -61,11 +61,6 @@ class NativeBackend final : public RveBackend, private RveStepper {
   // For tests and benchmarks: owned RVE k (local index).
   native::RveRecord& rve(std::size_t k) { return rves_[k]; }
   const native::NeighbourList& neighbour_list(std::size_t k) const { return lists_[k]; }
-  // Substeps the rule (p_.substeps) gives for one update: its dF (proportional) or its dt
-  // over the RVE's DEM step dem_dt (rate).
-  int n_substeps(const protocol::RveRequest& req, double dem_dt) const {
-    return driver_.n_substeps(req, dem_dt);
-  }
   // Apply dF to RVE k over ns substeps (split_increment: the velGrad lag corrected).
   void burst(std::size_t k, const double* dF, int ns) { split_increment(*this, k, dF, ns); }
   // Threads over the rank's RVEs in step(): OMP_NUM_THREADS if set, else 1 (each RVE is

@@ -190,7 +190,7 @@ double native_rate(const std::vector<native::RveRecord>& src, const Options& o) 
   for (std::size_t k = 0; k < m; ++k) rec[k] = src[k % src.size()];
   save((dir / "native_rank0.bin").string(), rec);
   NativeParams p;
-  p.ns_rule = NativeParams::NsRule::kFixed;
+  p.substeps.kind = SubstepRule::Kind::kFixed;
   NativeBackend nb(p);
   nb.set_threads(1);
   BackendContext ctx;

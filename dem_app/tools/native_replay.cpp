@@ -37,7 +37,7 @@ long resident_kb() {
 int main(int argc, char** argv) {
   std::string packing, df_file;
   mpmdem::dem::NativeParams p;
-  p.ns_rule = mpmdem::dem::NativeParams::NsRule::kFixed;
+  p.substeps.kind = mpmdem::dem::SubstepRule::Kind::kFixed;
   long repeat = 1;
   long resident = 0;
   for (int i = 1; i + 1 < argc; i += 2) {
@@ -47,7 +47,7 @@ int main(int argc, char** argv) {
     } else if (k == "--df") {
       df_file = v;
     } else if (k == "--ns") {
-      p.ns = std::stoi(v);
+      p.substeps.ns = std::stoi(v);
     } else if (k == "--damping") {
       p.damping = std::stod(v);
     } else if (k == "--repeat") {
@@ -61,7 +61,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  if (packing.empty() || df_file.empty() || p.ns < 2) {
+  if (packing.empty() || df_file.empty() || p.substeps.ns < 2) {
     std::cerr << "usage: native_replay --packing FILE.native.txt --df FILE [--ns N>=2] "
                  "[--damping D] [--repeat R]\n";
     return 2;
@@ -137,8 +137,8 @@ int main(int argc, char** argv) {
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (repeat > 1) {
-      const double ps =
-          static_cast<double>(steps) * p.ns * static_cast<double>(b.rve(0).state.spheres.size());
+      const double ps = static_cast<double>(steps) * p.substeps.ns *
+                        static_cast<double>(b.rve(0).state.spheres.size());
       std::printf("particle_steps_per_s %.4g coupling_steps %ld wall_s %.4g\n", ps / wall, steps,
                   wall);
       // Checkpoint / migration cost: the binary state of the RVE, encoded and decoded.

@@ -109,10 +109,10 @@ TEST(BatchMat3, EqualsEigenBitForBit) {
 dem::NativeParams native_params(bool column_packings) {
   dem::NativeParams p;
   p.inline_spheres = 100;
-  p.ns_rule = dem::NativeParams::NsRule::kProportional;
-  p.ns_factor = 1.5e4;  // the default column's
-  p.ns_min = 2;
-  p.ns_max = 100;
+  p.substeps.kind = dem::SubstepRule::Kind::kProportional;
+  p.substeps.ns_factor = 1.5e4;  // the default column's
+  p.substeps.ns_min = 2;
+  p.substeps.ns_max = 100;
   p.consolidation_tol = 0.02;
   p.consolidation_unbalanced = 0.05;
   if (column_packings) {

@@ -28,8 +28,8 @@ constexpr double kP0 = 1.0e4;  // consolidation pressure [Pa]
 dem::NativeParams params() {
   dem::NativeParams p;
   p.inline_spheres = 40;
-  p.ns_rule = dem::NativeParams::NsRule::kFixed;
-  p.ns = 10;
+  p.substeps.kind = dem::SubstepRule::Kind::kFixed;
+  p.substeps.ns = 10;
   p.consolidation_tol = 0.02;
   p.consolidation_unbalanced = 1e-3;
   return p;
@@ -117,9 +117,9 @@ TEST(NativeBackend, ConsolidatesToRveInitStressAndCellFollowsTheIncrementsExactl
 // the same increments over a 100x longer dt give the same bits.
 TEST(NativeBackend, RateRuleStrainsTheRveAtTheMpmRate) {
   dem::NativeParams p = params();
-  p.ns_rule = dem::NativeParams::NsRule::kRate;
-  p.ns_min = 3;
-  p.ns_max = 400;
+  p.substeps.kind = dem::SubstepRule::Kind::kRate;
+  p.substeps.ns_min = 3;
+  p.substeps.ns_max = 400;
   RveReply reply[1];
   auto b = make(0, 1, kP0, reply, p);
   ASSERT_EQ(reply[0].status, 0);
@@ -136,7 +136,7 @@ TEST(NativeBackend, RateRuleStrainsTheRveAtTheMpmRate) {
     EXPECT_EQ(reply[0].n_substeps, c.ns) << "dt / dt_dem = " << c.dt / dt_dem;
     const double rate = b->rve(0).state.cell.pending_vel_grad()(0, 2);
     EXPECT_NEAR(rate, 2e-5 / (c.ns * dt_dem), 1e-9 * rate);
-    if (c.ns > p.ns_min && c.ns < p.ns_max) {
+    if (c.ns > p.substeps.ns_min && c.ns < p.substeps.ns_max) {
       EXPECT_NEAR(rate, 2e-5 / c.dt, 2e-5 / c.dt * (1.0 / c.ns));  // the MPM's rate
     }
   }
@@ -147,8 +147,8 @@ TEST(NativeBackend, RateRuleStrainsTheRveAtTheMpmRate) {
   EXPECT_THROW(step(*b, 2, {f}, reply, -1e-3), std::runtime_error);
 
   dem::NativeParams q = params();
-  q.ns_rule = dem::NativeParams::NsRule::kProportional;
-  q.ns_factor = 1.5e4;
+  q.substeps.kind = dem::SubstepRule::Kind::kProportional;
+  q.substeps.ns_factor = 1.5e4;
   RveReply a[1], c[1];
   auto slow = make(0, 1, kP0, a, q);
   auto fast = make(0, 1, kP0, c, q);
@@ -167,8 +167,8 @@ TEST(NativeBackend, RateRuleStrainsTheRveAtTheMpmRate) {
 // this way within a few hundred updates: docs/rve_rate.md.)
 TEST(NativeBackend, RateRuleKeepsAnEquilibratedRveJammedAtConstantVolume) {
   dem::NativeParams p = params();
-  p.ns_rule = dem::NativeParams::NsRule::kRate;
-  p.ns_max = 1000;
+  p.substeps.kind = dem::SubstepRule::Kind::kRate;
+  p.substeps.ns_max = 1000;
   p.consolidation_tol = 0.01;
   p.consolidation_unbalanced = 1e-3;
   RveReply reply[1];
@@ -194,7 +194,7 @@ TEST(NativeBackend, RateRuleKeepsAnEquilibratedRveJammedAtConstantVolume) {
 // every burst (~300x after 300 steps).
 TEST(NativeBackend, AlternatingIncrementsAtTwoSubstepsKeepTheRateBounded) {
   dem::NativeParams p = params();
-  p.ns = 2;
+  p.substeps.ns = 2;
   RveReply reply[1];
   auto b = make(0, 1, kP0, reply, p);
   ASSERT_EQ(reply[0].status, 0);

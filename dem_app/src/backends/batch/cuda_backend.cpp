@@ -13,15 +13,8 @@
 
 namespace mpmdem::dem {
 
-namespace {
-
-std::int32_t as_int(protocol::RveStatus s) {
-  return static_cast<std::int32_t>(s);
-}
-
-}  // namespace
-
-CudaBackend::CudaBackend(const CudaParams& p) : p_(p), host_(p.native) {
+CudaBackend::CudaBackend(const CudaParams& p)
+    : p_(p), host_(p.native), driver_(p.native.substeps, p.native.ke_threshold) {
   threads_ = host_.threads();
 }
 
@@ -44,7 +37,7 @@ CudaBackend::~CudaBackend() {
 void CudaBackend::setup(const BackendContext& ctx) {
   ctx_ = ctx;
   host_.setup(ctx);
-  last_reply_.clear();
+  driver_.forget();
   if (p_.on_gpu && !device_) {
     device_ = batch::DeviceBatch::create(p_.gpu, ctx.rank, p_.threads_per_block);
   }
@@ -72,34 +65,30 @@ native::RveRecord CudaBackend::rve(std::size_t k) {
 
 void CudaBackend::initialise(const protocol::RveInit* init, protocol::RveReply* reply) {
   host_.initialise(init, reply);
-  fault_ = host_.last_fault_message();
-  last_reply_.clear();
+  driver_.initialised(reply, ctx_.n_rve, ctx_.first_rve);
   pack();
 }
 
 void CudaBackend::step(const protocol::ControlHeader& header, const protocol::RveRequest* req,
                        protocol::RveReply* reply) {
+  driver_.step(header, req, reply, ctx_.n_rve, ctx_.first_rve, *this);
+}
+
+void CudaBackend::step_batch(const protocol::ControlHeader& header,
+                             const std::vector<BatchUpdate>& updates, protocol::RveReply* reply,
+                             double* kinetic) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
-  fault_.clear();
   const std::size_t n = ctx_.n_rve;
   std::vector<batch::StepIn>& in = batch_.in();
   std::int64_t active = 0;
   for (std::size_t k = 0; k < n; ++k) {
     batch::StepIn& s = in[k];
     std::memset(&s, 0, sizeof s);
-    const auto cached = last_reply_.find(ctx_.first_rve + k);
-    if ((req[k].flags & protocol::kFlagSkip) && cached != last_reply_.end()) {
-      reply[k] = cached->second;
-      reply[k].n_substeps = 0;
-      reply[k].cost_s = 0;
-      continue;
-    }
+    if (!updates[k].active) continue;
     s.flags = batch::kStepActive | (header.step % 10 == 0 ? batch::kStepTileCheck : 0);
-    if (!(req[k].flags & (protocol::kFlagQueryOnly | protocol::kFlagSkip))) {
-      s.ns = host_.n_substeps(req[k], batch_.dt_[k]);
-      std::memcpy(s.dF, req[k].dF, sizeof s.dF);
-    }
+    s.ns = updates[k].ns;
+    if (updates[k].dF) std::memcpy(s.dF, updates[k].dF, sizeof s.dF);
     ++active;
   }
   const batch::BatchParams bp{p_.native.damping, p_.native.ke_threshold, p_.native.verlet_skin,
@@ -110,19 +99,17 @@ void CudaBackend::step(const protocol::ControlHeader& header, const protocol::Rv
     step_batch_host(batch_.view(), bp, threads_);
   }
   host_current_ = false;
-  const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-  batch_s_ += seconds;
+  batch_s_ += std::chrono::duration<double>(Clock::now() - t0).count();
   rve_steps_ += active;
   bool repack = false;
   const std::vector<batch::StepOut>& out = batch_.out();
   for (std::size_t k = 0; k < n; ++k) {
     if (!(in[k].flags & batch::kStepActive)) continue;
     const batch::StepOut& o = out[k];
-    const std::uint64_t gid = ctx_.first_rve + k;
     if (o.error != batch::kErrNone) {
       const bool contacts = o.error == batch::kErrContacts;
-      throw std::runtime_error("cuda backend: RVE " + std::to_string(gid) + " step " +
-                               std::to_string(header.step) + " needs more " +
+      throw std::runtime_error("cuda backend: RVE " + std::to_string(ctx_.first_rve + k) +
+                               " step " + std::to_string(header.step) + " needs more " +
                                (contacts ? "contact" : "Verlet pair") +
                                " slots than the batch holds; raise coupling.cuda." +
                                (contacts ? "contacts_per_sphere" : "pairs_per_sphere") + " (now " +
@@ -131,6 +118,7 @@ void CudaBackend::step(const protocol::ControlHeader& header, const protocol::Rv
                                ")");
     }
     protocol::RveReply& rp = reply[k];
+    kinetic[k] = o.kinetic;
     if (o.tile) {  // tiled on the host (native tile_if_thin), replied from its state
       sync_to_host();
       native::RveRecord& rec = host_.rve(k);
@@ -149,17 +137,6 @@ void CudaBackend::step(const protocol::ControlHeader& header, const protocol::Rv
       rp.status = o.status;
       rp.n_substeps = in[k].ns;
     }
-    rp.cost_s = active ? seconds / static_cast<double>(active) : 0.0;
-    last_reply_[gid] = rp;
-    if (rp.status == as_int(protocol::RveStatus::kNonFinite) ||
-        rp.status == as_int(protocol::RveStatus::kExploding)) {
-      fault_ +=
-          (fault_.empty() ? "" : "; ") + std::string("RVE ") + std::to_string(gid) + " step " +
-          std::to_string(header.step) + ": " +
-          (rp.status == as_int(protocol::RveStatus::kNonFinite) ? "non-finite values"
-                                                                : "exploding kinetic energy") +
-          " (kinetic energy " + std::to_string(o.kinetic) + " J)";
-    }
   }
   if (repack) pack();
 }
@@ -167,12 +144,12 @@ void CudaBackend::step(const protocol::ControlHeader& header, const protocol::Rv
 void CudaBackend::checkpoint(const std::filesystem::path& dir) {
   sync_to_host();
   host_.checkpoint(dir);
-  last_reply_.clear();
+  driver_.forget();
 }
 
 void CudaBackend::restore(const std::filesystem::path& dir) {
   host_.restore(dir);
-  last_reply_.clear();
+  driver_.forget();
   pack();
 }
 

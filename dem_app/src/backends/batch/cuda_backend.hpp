@@ -5,7 +5,9 @@
 // backend's, and so are its keys (coupling.native.*: packings, substep rule, damping, ...),
 // its initial consolidation (a NativeBackend inside prepares the RVEs), its checkpoints and
 // migration blobs (the batch is unpacked into native states for them) and its tiling (done on
-// the host for the rare RVE whose cell gets too thin).
+// the host for the rare RVE whose cell gets too thin). The per-request logic (substep rule,
+// kFlagSkip cache, faults) is the RveDriver's (rve_driver.hpp); this backend is its
+// BatchStepper.
 #pragma once
 
 #include <map>
@@ -17,6 +19,7 @@
 #include "backends/batch/batch_device.hpp"
 #include "backends/batch/batch_state.hpp"
 #include "backends/native/native_backend.hpp"
+#include "rve_driver.hpp"
 
 namespace mpmdem::dem {
 
@@ -28,7 +31,7 @@ struct CudaParams {
   batch::Capacity capacity;
 };
 
-class CudaBackend final : public RveBackend {
+class CudaBackend final : public RveBackend, private BatchStepper {
  public:
   explicit CudaBackend(const CudaParams& p);
   ~CudaBackend() override;
@@ -42,7 +45,7 @@ class CudaBackend final : public RveBackend {
   std::string export_rve(std::uint64_t gid) override;
   void adopt(std::uint64_t first_rve, std::uint64_t n_rve,
              std::map<std::uint64_t, std::string> incoming) override;
-  std::string last_fault_message() const override { return fault_; }
+  std::string last_fault_message() const override { return driver_.last_fault(); }
 
   // For tests: RVE k's state as a native record (the batch unpacked).
   native::RveRecord rve(std::size_t k);
@@ -53,18 +56,21 @@ class CudaBackend final : public RveBackend {
  private:
   void pack();          // host_'s records -> the batch (and the device)
   void sync_to_host();  // the batch (from the device) -> host_'s records
+  // BatchStepper: one kernel launch (or the host batch path) over the active RVEs.
+  double dem_dt(std::size_t k) const override { return batch_.dt_[k]; }
+  void step_batch(const protocol::ControlHeader& header, const std::vector<BatchUpdate>& updates,
+                  protocol::RveReply* reply, double* kinetic) override;
 
   CudaParams p_;
-  NativeBackend host_;  // initialise, restore, adopt, checkpoint files, the substep rule
+  NativeBackend host_;  // initialise, restore, adopt, checkpoint files
+  RveDriver driver_;
   BackendContext ctx_;
   batch::BatchState batch_;
   std::unique_ptr<batch::DeviceBatch> device_;
-  std::map<std::uint64_t, protocol::RveReply> last_reply_;  // kFlagSkip cache (by gid)
-  bool host_current_ = true;                                // host_'s records equal the batch
+  bool host_current_ = true;  // host_'s records equal the batch
   int threads_ = 1;
   std::int64_t rve_steps_ = 0;
   double batch_s_ = 0;
-  std::string fault_;
 };
 
 CudaParams cuda_params(const config::Config& cfg);

@@ -1,9 +1,10 @@
 // One coupling step of one batch RVE, for host and device: a thread group Ctx (the host batch
 // path: one thread; the device: one thread block per RVE) runs the RVE's own ns substeps
-// (NativeBackend::burst with the velGrad-lag correction; each group loops its own ns, so
-// mixed counts serialise nothing), then its unbalanced force (when replied), kinetic energy
-// and status, the flip of its cell, the tiling check and its reply (Love-Weber stress,
-// stiffness bound, outputs), as native_backend.cpp's step does.
+// (burst_vel_grad: rve_driver.cpp's split_increment, the velGrad-lag correction; each group
+// loops its own ns, so mixed counts serialise nothing), then its unbalanced force (when
+// replied), kinetic energy and status (energy_status, the driver's rule), the flip of its
+// cell, the tiling check and its reply (Love-Weber stress, stiffness bound, outputs), as the
+// native backend does under the driver (rve_driver.cpp).
 // Ctx: tid(), nt(), sync(), max_all(x) (a max over the group, to every thread), scan(x,
 // &total) (exclusive prefix sum in tid order, total to every thread), atomic_add(int*, int)
 // (returns the old value). Phases are separated by ctx.sync(); what must stay in one order
@@ -11,6 +12,7 @@
 #pragma once
 
 #include "backends/batch/substep.hpp"
+#include "rve_status_rule.hpp"
 
 namespace mpmdem::dem::batch {
 
@@ -164,11 +166,7 @@ MPMDEM_HD void rve_step(const BatchView& v, const BatchParams& bp, int r, Ctx& c
       e += 0.5 * v.inertia[s0 + i] * dot3(w, w);
     }
     out.kinetic = e;
-    if (!hd_isfinite(e)) {
-      out.status = kStatusNonFinite;
-    } else if (e / det(cell_get(cb, kHsize)) > bp.ke_threshold * v.p0[r]) {
-      out.status = kStatusExploding;
-    }
+    out.status = energy_status(e, det(cell_get(cb, kHsize)), bp.ke_threshold, v.p0[r]);
     // Flip (native flip_cell): the image offsets become M^-1 c.
     int m[9];
     fl[kScratch] = flip(cb, m) ? 1 : 0;

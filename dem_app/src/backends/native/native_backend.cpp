@@ -2,7 +2,6 @@
 #include "backends/native/native_backend.hpp"
 
 #include <omp.h>
-#include <Eigen/LU>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -11,7 +10,6 @@
 
 #include <cstdlib>
 #include <ctime>
-#include <exception>
 #include <random>
 #include <sstream>
 #include <stdexcept>
@@ -30,7 +28,6 @@ namespace mpmdem::dem {
 
 namespace {
 
-using RowMajor3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
 using native::RveRecord;
 
 std::int32_t as_int(protocol::RveStatus s) {
@@ -39,7 +36,7 @@ std::int32_t as_int(protocol::RveStatus s) {
 
 }  // namespace
 
-NativeBackend::NativeBackend(const NativeParams& p) : p_(p) {
+NativeBackend::NativeBackend(const NativeParams& p) : p_(p), driver_(p.substeps, p.ke_threshold) {
   if (std::getenv("OMP_NUM_THREADS")) set_threads(omp_get_max_threads());
 }
 
@@ -48,7 +45,7 @@ void NativeBackend::setup(const BackendContext& ctx) {
   packing_cache_.clear();
   rves_.clear();
   lists_.clear();
-  last_reply_.clear();
+  driver_.forget();
   consolidation_cache_.reset();
   if (!p_.consolidation_cache.empty()) {
     consolidation_cache_ =
@@ -95,8 +92,6 @@ native::RveState NativeBackend::cloud(std::uint64_t point) const {
 void NativeBackend::initialise(const protocol::RveInit* init, protocol::RveReply* reply) {
   rves_.clear();
   lists_.clear();
-  last_reply_.clear();
-  fault_.clear();
   native::ConsolidationParams cp;
   cp.stress_tol = p_.consolidation_tol;
   cp.unbalanced_tol = p_.consolidation_unbalanced;
@@ -142,11 +137,8 @@ void NativeBackend::initialise(const protocol::RveInit* init, protocol::RveReply
     lists_.emplace_back(p_.verlet_skin);
     fill_reply(k, as_int(protocol::RveStatus::kOk),
                static_cast<std::int32_t>(r.state.spheres.size()), reply[k]);
-    if (reply[k].status == as_int(protocol::RveStatus::kNonFinite)) {
-      fault_ += (fault_.empty() ? "" : "; ") + std::string("RVE ") +
-                std::to_string(ctx_.first_rve + k) + " step 0: non-finite values";
-    }
   }
+  driver_.initialised(reply, n, ctx_.first_rve);
   log_preparation(set.tally,
                   std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
                   static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC);
@@ -181,50 +173,26 @@ void NativeBackend::log_preparation(const native::PreparationTally& t, double se
   std::cerr << line.str() << std::flush;
 }
 
-int NativeBackend::n_substeps(const protocol::RveRequest& req, double dem_dt) const {
-  if (p_.ns_rule == NativeParams::NsRule::kFixed) return p_.ns;
-  double want = 0;
-  if (p_.ns_rule == NativeParams::NsRule::kRate) {
-    // ns dt_dem = the update's dt (to within one DEM step): the RVE deforms at the MPM's rate
-    if (!(std::isfinite(req.dt) && req.dt >= 0.0)) {
-      throw std::runtime_error("ns_rule rate: the update's dt is " + std::to_string(req.dt) +
-                               " s; the client must send a finite dt >= 0 (RveRequest::dt)");
-    }
-    want = req.dt / dem_dt;
-  } else {
-    double g = 0;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        g = std::max(g, std::abs(req.dF[3 * i + j] - (i == j ? 1.0 : 0.0)));
-    want = p_.ns_factor * g;
-  }
-  // clamped as a double first: a huge want must not overflow the int
-  const double ns = std::ceil(std::min(want, static_cast<double>(p_.ns_max)));
-  return std::max(p_.ns_min, static_cast<int>(ns));
+void NativeBackend::substep(std::size_t k) {
+  native::dem_step(rves_[k].state, lists_[k], p_.damping);
 }
 
-void NativeBackend::burst(std::size_t k, const double* dF, int ns) {
-  native::RveState& s = rves_[k].state;
-  const double dt = s.dt;
-  const Eigen::Matrix3d target = Eigen::Map<const RowMajor3>(dF) * s.cell.trsf;
-  const Eigen::Matrix3d id = Eigen::Matrix3d::Identity();
-  for (int j = 1; j <= ns; ++j) {
-    const int remaining = ns - j;
-    if (j == 1 || remaining == 1) {
-      // The gradient active during substep j is the pending one: predict the cell after j
-      // and set the next one, uniform over the rest (j = 1) or exact (j = ns - 1).
-      const Eigen::Matrix3d l = s.cell.pending_vel_grad();
-      const Eigen::Matrix3d after = (id + l * dt) * s.cell.trsf;
-      const Eigen::Matrix3d next = (target * after.inverse() - id) / (remaining * dt);
-      s.cell.set_vel_grad(next);
-    }
-    if (remaining == 0) {
-      // Pending for the next burst's first substep: this burst's mean rate (rate continuity;
-      // mpmdem_rve._burst does the same). Substep ns still runs with the exact one above.
-      s.cell.set_vel_grad((Eigen::Map<const RowMajor3>(dF) - id) / (ns * dt));
-    }
-    native::dem_step(s, lists_[k], p_.damping);
+void NativeBackend::end_burst(std::size_t k) {
+  if (ctx_.outputs & protocol::kOutputUnbalancedForce) {  // only when replied
+    rves_[k].unbalanced = native::unbalanced_force(rves_[k].state);
   }
+  rves_[k].state.spheres.release_forces();
+}
+
+RveEnergy NativeBackend::energy(std::size_t k) const {
+  const native::RveState& s = rves_[k].state;
+  return {native::kinetic_energy(s), s.cell.volume(), rves_[k].p0};
+}
+
+void NativeBackend::measure(std::size_t k, std::uint64_t step, std::int32_t status, std::int32_t ns,
+                            protocol::RveReply& reply) {
+  regularise(k, step);
+  fill_reply(k, status, ns, reply);
 }
 
 void NativeBackend::regularise(std::size_t k, std::uint64_t step) {
@@ -240,70 +208,7 @@ void NativeBackend::fill_reply(std::size_t k, std::int32_t status, std::int32_t 
 
 void NativeBackend::step(const protocol::ControlHeader& header, const protocol::RveRequest* req,
                          protocol::RveReply* reply) {
-  using Clock = std::chrono::steady_clock;
-  step_no_ = header.step;
-  fault_.clear();
-  const std::size_t n = rves_.size();
-  // Served from the kFlagSkip cache (serially: the map is shared) or advanced (in parallel:
-  // each RVE and its list are touched by one thread only).
-  std::vector<char> advance(n, 1);
-  std::vector<double> ke(n, 0.0);
-  for (std::size_t k = 0; k < n; ++k) {
-    const auto t0 = Clock::now();
-    const auto cached = last_reply_.find(ctx_.first_rve + k);
-    if ((req[k].flags & protocol::kFlagSkip) && cached != last_reply_.end()) {
-      reply[k] = cached->second;
-      reply[k].n_substeps = 0;
-      reply[k].cost_s = std::chrono::duration<double>(Clock::now() - t0).count();
-      advance[k] = 0;
-    }
-  }
-  std::vector<std::exception_ptr> error(n);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads_) if (threads_ > 1 && n > 1)
-  for (std::ptrdiff_t kk = 0; kk < static_cast<std::ptrdiff_t>(n); ++kk) {
-    const auto k = static_cast<std::size_t>(kk);
-    if (!advance[k]) continue;
-    try {
-      const auto t0 = Clock::now();
-      int ns = 0;
-      if (!(req[k].flags & (protocol::kFlagQueryOnly | protocol::kFlagSkip))) {
-        ns = n_substeps(req[k], rves_[k].state.dt);
-        burst(k, req[k].dF, ns);
-        if (ctx_.outputs & protocol::kOutputUnbalancedForce) {  // only when replied
-          rves_[k].unbalanced = native::unbalanced_force(rves_[k].state);
-        }
-        rves_[k].state.spheres.release_forces();
-      }
-      const native::RveState& s = rves_[k].state;
-      std::int32_t status = as_int(protocol::RveStatus::kOk);
-      ke[k] = native::kinetic_energy(s);
-      if (!std::isfinite(ke[k])) {
-        status = as_int(protocol::RveStatus::kNonFinite);
-      } else if (ke[k] / s.cell.volume() > p_.ke_threshold * rves_[k].p0) {
-        status = as_int(protocol::RveStatus::kExploding);
-      }
-      regularise(k, header.step);
-      fill_reply(k, status, ns, reply[k]);
-      reply[k].cost_s = std::chrono::duration<double>(Clock::now() - t0).count();
-    } catch (...) {
-      error[k] = std::current_exception();
-    }
-  }
-  for (std::size_t k = 0; k < n; ++k) {
-    if (error[k]) std::rethrow_exception(error[k]);
-    if (!advance[k]) continue;
-    const std::uint64_t gid = ctx_.first_rve + k;
-    last_reply_[gid] = reply[k];
-    if (reply[k].status == as_int(protocol::RveStatus::kNonFinite) ||
-        reply[k].status == as_int(protocol::RveStatus::kExploding)) {
-      fault_ += (fault_.empty() ? "" : "; ") + std::string("RVE ") + std::to_string(gid) +
-                " step " + std::to_string(header.step) + ": " +
-                (reply[k].status == as_int(protocol::RveStatus::kNonFinite)
-                     ? "non-finite values"
-                     : "exploding kinetic energy") +
-                " (kinetic energy " + std::to_string(ke[k]) + " J)";
-    }
-  }
+  driver_.step(header, req, reply, rves_.size(), ctx_.first_rve, *this, threads_);
 }
 
 void NativeBackend::checkpoint(const std::filesystem::path& dir) {
@@ -316,7 +221,7 @@ void NativeBackend::checkpoint(const std::filesystem::path& dir) {
     lists_[k].invalidate();  // continue as a restart from this file would (same rebuilds)
   }
   // Replies after a checkpoint come from the RVE states, here as in a resumed run.
-  last_reply_.clear();
+  driver_.forget();
   if (!out) throw std::runtime_error("error while writing native checkpoint " + file.string());
 }
 
@@ -324,7 +229,7 @@ void NativeBackend::restore(const std::filesystem::path& dir) {
   std::vector<bool> found(ctx_.n_rve, false);
   rves_.assign(ctx_.n_rve, RveRecord{});
   lists_.assign(ctx_.n_rve, native::NeighbourList(p_.verlet_skin));
-  last_reply_.clear();
+  driver_.forget();
   std::error_code ec;
   for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
     const std::string name = entry.path().filename().string();
@@ -389,14 +294,7 @@ NativeParams native_params(const config::Config& cfg) {
   p.packings = cfg.strings("coupling.native.packings");
   p.seed = cfg.integer("coupling.native.seed");
   p.inline_spheres = static_cast<int>(cfg.integer("coupling.native.inline_spheres"));
-  const std::string rule = cfg.string("coupling.native.ns_rule");
-  p.ns_rule = rule == "fixed"  ? NativeParams::NsRule::kFixed
-              : rule == "rate" ? NativeParams::NsRule::kRate
-                               : NativeParams::NsRule::kProportional;
-  p.ns = static_cast<int>(cfg.integer("coupling.native.ns"));
-  p.ns_factor = cfg.number("coupling.native.ns_factor");
-  p.ns_min = static_cast<int>(cfg.integer("coupling.native.ns_min"));
-  p.ns_max = static_cast<int>(cfg.integer("coupling.native.ns_max"));
+  p.substeps = substep_rule(cfg, "native");
   p.damping = cfg.number("coupling.native.damping");
   p.ke_threshold = cfg.number("coupling.native.ke_threshold");
   p.stiffness = cfg.string("coupling.native.stiffness") == "tangent";

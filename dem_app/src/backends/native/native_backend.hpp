@@ -1,8 +1,9 @@
 // The native RVE backend (coupling.backend: native): YADE's RVE mechanics compiled in C++,
 // no Python. Same protocol behaviour as the YADE backend (backends/yade_backend.cpp with
-// dem_app/python/mpmdem_rve.py): initial consolidation to RveInit's stress, exact cell
-// deformation by the dF sequence despite the velGrad lag, substep rule, statuses, flip and
-// tiling, checkpoint and migration (one compact binary state per RVE).
+// dem_app/python/mpmdem_rve.py): initial consolidation to RveInit's stress, flip and tiling,
+// checkpoint and migration (one compact binary state per RVE). What every DEM backend does
+// per request (substep rule, the split of dF, status, kFlagSkip cache, fault messages) is the
+// RveDriver's (rve_driver.hpp); this backend is its RveStepper: the DEM stepping of one RVE.
 #pragma once
 
 #include <cstdint>
@@ -16,6 +17,8 @@
 #include "backends/native/neighbour_list.hpp"
 #include "backends/native/rve_preparation.hpp"
 #include "mpmdem/config/schema.hpp"
+#include "rve_driver.hpp"
+#include "substep_rule.hpp"
 
 namespace mpmdem::dem {
 
@@ -24,11 +27,7 @@ struct NativeParams {
   std::vector<std::string> packings;
   std::int64_t seed = 1;
   int inline_spheres = 60;
-  // DEM substeps per update: fixed (ns), proportional to the strain increment (ns_factor),
-  // or rate (the update's dt over the RVE's DEM step: the RVE strained at the MPM's rate)
-  enum class NsRule { kFixed, kProportional, kRate } ns_rule = NsRule::kProportional;
-  int ns = 10, ns_min = 2, ns_max = 100;
-  double ns_factor = 1e5;
+  SubstepRule substeps;  // DEM substeps per update (coupling.native.ns_rule, ns, ...)
   double damping = 0.2;
   double ke_threshold = 10;
   bool stiffness = true;
@@ -43,7 +42,7 @@ struct NativeParams {
   native::ContactLaw law;
 };
 
-class NativeBackend final : public RveBackend {
+class NativeBackend final : public RveBackend, private RveStepper {
  public:
   explicit NativeBackend(const NativeParams& p);
   std::string name() const override { return "native"; }
@@ -57,16 +56,13 @@ class NativeBackend final : public RveBackend {
   std::string export_rve(std::uint64_t gid) override;
   void adopt(std::uint64_t first_rve, std::uint64_t n_rve,
              std::map<std::uint64_t, std::string> incoming) override;
-  std::string last_fault_message() const override { return fault_; }
+  std::string last_fault_message() const override { return driver_.last_fault(); }
 
   // For tests and benchmarks: owned RVE k (local index).
   native::RveRecord& rve(std::size_t k) { return rves_[k]; }
   const native::NeighbourList& neighbour_list(std::size_t k) const { return lists_[k]; }
-  // Substeps the rule (p_.ns_rule) gives for one update: its dF (proportional) or its dt over
-  // the RVE's DEM step dem_dt (rate).
-  int n_substeps(const protocol::RveRequest& req, double dem_dt) const;
-  // Apply dF over ns substeps with the velGrad lag corrected (mpmdem_rve.RveSet._burst).
-  void burst(std::size_t k, const double* dF, int ns);
+  // Apply dF to RVE k over ns substeps (split_increment: the velGrad lag corrected).
+  void burst(std::size_t k, const double* dF, int ns) { split_increment(*this, k, dF, ns); }
   // Threads over the rank's RVEs in step(): OMP_NUM_THREADS if set, else 1 (each RVE is
   // independent, so the results do not depend on it).
   int threads() const { return threads_; }
@@ -87,21 +83,33 @@ class NativeBackend final : public RveBackend {
   void fill_reply(std::size_t k, std::int32_t status, std::int32_t n_sub,
                   protocol::RveReply& reply) const;
   void regularise(std::size_t k, std::uint64_t step);
+  // RveStepper: the DEM stepping of RVE k.
+  double dem_dt(std::size_t k) const override { return rves_[k].state.dt; }
+  Eigen::Matrix3d trsf(std::size_t k) const override { return rves_[k].state.cell.trsf; }
+  Eigen::Matrix3d pending_vel_grad(std::size_t k) const override {
+    return rves_[k].state.cell.pending_vel_grad();
+  }
+  void set_vel_grad(std::size_t k, const Eigen::Matrix3d& l) override {
+    rves_[k].state.cell.set_vel_grad(l);
+  }
+  void substep(std::size_t k) override;
+  void end_burst(std::size_t k) override;
+  RveEnergy energy(std::size_t k) const override;
+  void measure(std::size_t k, std::uint64_t step, std::int32_t status, std::int32_t ns,
+               protocol::RveReply& reply) override;
   void log_preparation(const native::PreparationTally& t, double seconds, double cpu_seconds) const;
 
   NativeParams p_;
   BackendContext ctx_;
   std::vector<native::RveRecord> rves_;
   std::vector<native::NeighbourList> lists_;
-  std::map<std::uint64_t, protocol::RveReply> last_reply_;  // kFlagSkip cache (by gid)
+  RveDriver driver_;
   // Packings read once per name: the paper scene's 70,389 RVEs draw 8 packings, and parsing
   // a 600 KB text file per RVE took minutes.
   std::map<std::string, Packing> packing_cache_;
   std::unique_ptr<native::ConsolidationCache> consolidation_cache_;  // null: none
   native::PreparationTally last_tally_;
-  std::uint64_t step_no_ = 0;
   int threads_ = 1;
-  std::string fault_;
 };
 
 NativeParams native_params(const config::Config& cfg);

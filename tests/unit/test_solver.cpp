@@ -11,6 +11,7 @@
 #include "constitutive/linear_elastic.hpp"
 #include "constitutive/rve_point_state.hpp"
 #include "errors.hpp"
+#include "hooked_provider.hpp"
 #include "mpmdem/laws/elastic_law.hpp"
 #include "mpmdem/protocol.hpp"
 #include "particle_init.hpp"
@@ -20,37 +21,12 @@
 
 using namespace mpmdem::mpm;
 using test_fixture::Face;
+using test_fixture::HookedProvider;
 using test_fixture::SceneBuilder;
+using test_fixture::Update;
 
 // The scenes: test_fixture::SceneBuilder's defaults (E = 1e7 Pa, nu = 0.3, 2000 kg/m^3 blocks,
 // gravity 9.81 m/s^2 along -z) in the domain and cells each test gives.
-namespace {
-
-// Linear elastic with a hook after every update (fault injection) that also records the
-// batch sizes and the dF it was given.
-class HookedProvider : public ConstitutiveProvider {
- public:
-  using Hook =
-      std::function<void(std::int64_t, const std::vector<Mat3>&, std::vector<PointResponse>&)>;
-  HookedProvider(const ConstitutiveParams& params, Hook hook)
-      : inner_(make_linear_elastic(params)), hook_(std::move(hook)) {}
-  std::string name() const override { return "hooked"; }
-  void initialise(const std::vector<Mat3>& s0, std::vector<PointResponse>& out) override {
-    inner_->initialise(s0, out);
-  }
-  void update(const std::vector<Mat3>& dF, double dt, std::int64_t step, double time,
-              std::vector<PointResponse>& out) override {
-    inner_->update(dF, dt, step, time, out);
-    hook_(step, dF, out);
-  }
-
- private:
-  std::unique_ptr<ConstitutiveProvider> inner_;
-  Hook hook_;
-};
-
-}  // namespace
-
 TEST(ParticleInit, RegionsFilledOnTheCellLattice) {
   const Particles p = SceneBuilder()
                           .cell(0.1)
@@ -208,11 +184,13 @@ TEST(Solver, PointLeavingTheGridIsRemovedAndTheProviderKeepsItsBatch) {
   const std::int64_t bullet = p.id.back();
   std::vector<std::size_t> batch_sizes;
   Mat3 last_bullet_dF = Mat3::Zero();
-  auto hook = [&](std::int64_t, const std::vector<Mat3>& dF, std::vector<PointResponse>&) {
+  auto hook = [&](const Update& u, std::vector<PointResponse>&) {
+    const std::vector<Mat3>& dF = u.dF;
     batch_sizes.push_back(dF.size());
     last_bullet_dF = dF.back();
   };
-  Solver solver = b.solver(p, std::make_unique<HookedProvider>(b.build().constitutive, hook));
+  Solver solver = b.solver(
+      p, std::make_unique<HookedProvider>(make_linear_elastic(b.build().constitutive), hook));
   const double E_p0 = solver.initial_potential_energy();
   (void)E_p0;
   std::vector<std::string> events;
@@ -239,11 +217,11 @@ TEST(Solver, PointLeavingTheGridIsRemovedAndTheProviderKeepsItsBatch) {
 TEST(Solver, NonFiniteStressStopsTheRunNamingThePoint) {
   // The builder's default scene: a 0.1 m block in a 0.2 m box, here on a fixed base.
   const SceneBuilder b = SceneBuilder().base(WallType::kFixed);
-  auto nan_at_step_2 = [](std::int64_t step, const std::vector<Mat3>&,
-                          std::vector<PointResponse>& out) {
-    if (step == 2) out[5].stress(1, 2) = std::nan("");
+  auto nan_at_step_2 = [](const Update& u, std::vector<PointResponse>& out) {
+    if (u.step == 2) out[5].stress(1, 2) = std::nan("");
   };
-  Solver solver = b.solver(std::make_unique<HookedProvider>(b.build().constitutive, nan_at_step_2));
+  Solver solver = b.solver(
+      std::make_unique<HookedProvider>(make_linear_elastic(b.build().constitutive), nan_at_step_2));
   solver.step();
   try {
     solver.step();
@@ -270,11 +248,12 @@ TEST(Solver, FatalRveStatusStopsTheRun) {
        {Case{exploding, 3, "status 3"}, Case{42, 5, "status 42 (unknown status 42)"}}) {
     SCOPED_TRACE(c.says);
     const SceneBuilder b;  // the default scene: a 0.1 m block in a 0.2 m box
-    auto fault = [c](std::int64_t, const std::vector<Mat3>&, std::vector<PointResponse>& out) {
+    auto fault = [c](const Update&, std::vector<PointResponse>& out) {
       read_rve_status(static_cast<std::int32_t>(mpmdem::protocol::RveStatus::kNoContacts), out[7]);
       read_rve_status(c.status, out[c.point]);
     };
-    Solver solver = b.solver(std::make_unique<HookedProvider>(b.build().constitutive, fault));
+    Solver solver = b.solver(
+        std::make_unique<HookedProvider>(make_linear_elastic(b.build().constitutive), fault));
     try {
       solver.step();
       FAIL() << "no SimulationError";

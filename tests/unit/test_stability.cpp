@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "constitutive/linear_elastic.hpp"
+#include "hooked_provider.hpp"
 #include "mpmdem/protocol.hpp"
 #include "run_driver.hpp"
 #include "scene_builder.hpp"
@@ -26,8 +27,10 @@
 
 namespace fs = std::filesystem;
 using namespace mpmdem::mpm;
+using test_fixture::HookedProvider;
 using test_fixture::quiet_options;
 using test_fixture::SceneBuilder;
+using test_fixture::Update;
 using test_support::read_file;
 using test_support::TempDir;
 
@@ -91,28 +94,6 @@ std::size_t expect_no_non_finite(const std::string& dir) {
   return files;
 }
 
-// Linear elastic, with a hook on the responses of every update (fault injection).
-class HookedProvider : public ConstitutiveProvider {
- public:
-  using Hook = std::function<void(std::int64_t, std::vector<PointResponse>&)>;
-  HookedProvider(std::unique_ptr<ConstitutiveProvider> inner, Hook hook)
-      : inner_(std::move(inner)), hook_(std::move(hook)) {}
-  std::string name() const override { return "hooked_" + inner_->name(); }
-  void initialise(const std::vector<Mat3>& s0, std::vector<PointResponse>& out) override {
-    inner_->initialise(s0, out);
-  }
-  void update(const std::vector<Mat3>& dF, double dt, std::int64_t step, double time,
-              std::vector<PointResponse>& out) override {
-    inner_->update(dF, dt, step, time, out);
-    hook_(++calls_, out);
-  }
-
- private:
-  std::unique_ptr<ConstitutiveProvider> inner_;
-  Hook hook_;
-  std::int64_t calls_ = 0;
-};
-
 double column_value(const std::string& csv_line, std::size_t col) {
   std::stringstream ss(csv_line);
   std::string cell;
@@ -163,9 +144,9 @@ TEST(StateGuard, InjectedNaNStopsTheRunBeforeAnyOutputHoldsIt) {
   RunOptions o = quiet_options(dir.str(), log);
   o.provider_factory = [](const Scene& s, std::size_t) -> std::unique_ptr<ConstitutiveProvider> {
     return std::make_unique<HookedProvider>(make_linear_elastic(s.constitutive),
-                                            [](std::int64_t call, auto& out) {
+                                            [](const Update& u, auto& out) {
                                               for (auto& r : out) r.porosity = 0.4;
-                                              if (call == 7) out[42].porosity = kNaN;
+                                              if (u.call == 7) out[42].porosity = kNaN;
                                             });
   };
   const RunResult r = run_scene(scene, o);

@@ -18,6 +18,7 @@
 #include <string>
 
 #include "constitutive/linear_elastic.hpp"
+#include "hooked_provider.hpp"
 #include "particle_init.hpp"
 #include "run_driver.hpp"
 #include "scene_builder.hpp"
@@ -27,8 +28,10 @@
 
 namespace fs = std::filesystem;
 using namespace mpmdem::mpm;
+using test_fixture::HookedProvider;
 using test_fixture::quiet_options;
 using test_fixture::SceneBuilder;
+using test_fixture::Update;
 using test_support::read_file;
 using test_support::TempDir;
 
@@ -56,28 +59,6 @@ Particles exact_column(const Scene& scene) {
   }
   return p;
 }
-
-// Linear elastic, with a hook called before every update (fault injection).
-class HookedProvider : public ConstitutiveProvider {
- public:
-  HookedProvider(std::unique_ptr<ConstitutiveProvider> inner,
-                 std::function<void(std::int64_t, std::vector<PointResponse>&)> hook)
-      : inner_(std::move(inner)), hook_(std::move(hook)) {}
-  std::string name() const override { return "hooked_" + inner_->name(); }
-  void initialise(const std::vector<Mat3>& s0, std::vector<PointResponse>& out) override {
-    inner_->initialise(s0, out);
-  }
-  void update(const std::vector<Mat3>& dF, double dt, std::int64_t step, double time,
-              std::vector<PointResponse>& out) override {
-    inner_->update(dF, dt, step, time, out);
-    hook_(++calls_, out);
-  }
-
- private:
-  std::unique_ptr<ConstitutiveProvider> inner_;
-  std::function<void(std::int64_t, std::vector<PointResponse>&)> hook_;
-  std::int64_t calls_ = 0;
-};
 
 }  // namespace
 
@@ -177,8 +158,8 @@ TEST(Verification, NonFiniteStressFailsTheRunAndMarksTheResults) {
   RunOptions o = quiet_options(dir.str(), log);
   o.provider_factory = [](const Scene& s, std::size_t) -> std::unique_ptr<ConstitutiveProvider> {
     return std::make_unique<HookedProvider>(
-        make_linear_elastic(s.constitutive), [](std::int64_t call, auto& out) {
-          if (call == 5) out[7].stress(2, 2) = std::numeric_limits<double>::quiet_NaN();
+        make_linear_elastic(s.constitutive), [](const Update& u, auto& out) {
+          if (u.call == 5) out[7].stress(2, 2) = std::numeric_limits<double>::quiet_NaN();
         });
   };
   const RunResult r = run_scene(scene, o);
@@ -205,8 +186,8 @@ TEST(Verification, StopRequestEndsAfterTheCurrentStepWithOutputs) {
   RunOptions o = quiet_options(dir.str(), log);
   o.provider_factory = [](const Scene& s, std::size_t) -> std::unique_ptr<ConstitutiveProvider> {
     return std::make_unique<HookedProvider>(make_linear_elastic(s.constitutive),
-                                            [](std::int64_t call, auto&) {
-                                              if (call == 10) request_stop();
+                                            [](const Update& u, auto&) {
+                                              if (u.call == 10) request_stop();
                                             });
   };
   const RunResult r = run_scene(scene, o);

@@ -147,6 +147,7 @@ double figure(const RunSummary& s, const std::string& key) {
 }
 
 void expect_same_points(const Particles& a, const Particles& b) {
+  ASSERT_GT(a.size(), 0u) << "no points to compare (no final state returned?)";
   ASSERT_EQ(a.size(), b.size());
   for (std::size_t q = 0; q < a.size(); ++q) {
     ASSERT_EQ(a.x[q], b.x[q]) << "point " << q;

@@ -80,6 +80,7 @@ TEST(ColumnCollapse, LocalModelConservesMassDissipatesAndRunsOutInTheLawsBand) {
   EXPECT_EQ(s.removed_points, 0u);
   EXPECT_NEAR(s.mass_grid_kg, s.mass_initial_kg, 1e-12 * s.mass_initial_kg);
   const Grid grid(scene.grid);
+  ASSERT_GT(r.final_state.size(), 0u) << "the run returned no final state";
   for (const auto& x : r.final_state.x) ASSERT_TRUE(grid.contains(x)) << x.transpose();
   // Stage 1 ended by its own rule, stage 2 by the at-rest stop, between min_t_star and 6 t*.
   const ColumnGeometry g = column_geometry(scene);
@@ -371,6 +372,7 @@ void resumed_run_ends_in_the_uninterrupted_state(Scene scene) {
   EXPECT_EQ(b.result.summary.resumed_from_step, ckpt_step);
   EXPECT_EQ(b.result.summary.steps_this_run, a.result.summary.steps - ckpt_step);
   EXPECT_EQ(a.result.summary.steps_this_run, a.result.summary.steps);
+  ASSERT_GT(a.final_state.size(), 0u) << "the run returned no final state";
   ASSERT_EQ(a.final_state.size(), b.final_state.size());
   for (std::size_t q = 0; q < a.final_state.size(); ++q) {
     ASSERT_EQ(a.final_state.x[q], b.final_state.x[q]) << "point " << q;

@@ -11,36 +11,21 @@
 #include <cmath>
 
 #include "boundary_conditions.hpp"
-#include "constitutive/linear_elastic.hpp"
-#include "particle_init.hpp"
+#include "scene_builder.hpp"
 #include "solver.hpp"
 
 using namespace mpmdem::mpm;
+using test_fixture::Face;
+using test_fixture::SceneBuilder;
 
 namespace {
 
 constexpr double kG = 9.81;
 
-// A block of E = 1e7 Pa, nu = 0.3, rho = 2000 kg/m^3 (c = 82 m/s) in a grid of 0.025 m cells.
-Scene block_scene(const Vec3& extent, const Vec3& min, const Vec3& max) {
-  Scene s;
-  s.name = "block";
-  s.grid.origin = Vec3::Zero();
-  s.grid.extent = extent;
-  s.grid.cell_size = 0.025;
-  RegionParams r;
-  r.name = "block";
-  r.min = min;
-  r.max = max;
-  r.points_per_cell = 2;
-  r.density = 2000.0;
-  s.regions.push_back(r);
-  s.solver.gravity = Vec3(0.0, 0.0, -kG);
-  s.solver.end_time = 1.0;
-  s.solver.flip = 0.99;
-  s.constitutive.youngs_modulus = 1e7;
-  s.constitutive.poisson_ratio = 0.3;
-  return s;
+// A block of E = 1e7 Pa, nu = 0.3, rho = 2000 kg/m^3 (c = 82 m/s; the builder's defaults) in a
+// grid of 0.025 m cells, gravity g along -z.
+SceneBuilder block_scene(const Vec3& extent, const Vec3& min, const Vec3& max) {
+  return SceneBuilder().name("block").domain(extent).cell(0.025).block(min, max);
 }
 
 double M_of(const Scene& s) {
@@ -64,10 +49,6 @@ double max_speed(const Particles& p) {
   return v;
 }
 
-Solver make_solver(const Scene& scene) {
-  return Solver(scene, generate_particles(scene), make_linear_elastic(scene.constitutive));
-}
-
 void run_until(Solver& solver, double t) {
   while (solver.time() < t) solver.step();
 }
@@ -77,14 +58,13 @@ void run_until(Solver& solver, double t) {
 TEST(Walls, BlockOnAFixedBaseStaysAtRest) {
   // 0.1 x 0.05 x 0.3 m between slip side walls on a fixed base, starting from the 1D-strain
   // geostatic state (K0 = nu / (1 - nu)).
-  Scene s = block_scene(Vec3(0.1, 0.05, 0.4), Vec3::Zero(), Vec3(0.1, 0.05, 0.3));
-  s.regions[0].geostatic = true;
-  s.regions[0].k0 = 0.3 / 0.7;
-  s.walls = {WallParams{WallType::kSlip, 0},  WallParams{WallType::kSlip, 0},
-             WallParams{WallType::kSlip, 0},  WallParams{WallType::kSlip, 0},
-             WallParams{WallType::kFixed, 0}, WallParams{WallType::kFree, 0}};
-  s.solver.local_damping = 0.1;
-  Solver solver = make_solver(s);
+  const SceneBuilder b = block_scene(Vec3(0.1, 0.05, 0.4), Vec3::Zero(), Vec3(0.1, 0.05, 0.3))
+                             .geostatic(0.3 / 0.7)
+                             .side_walls(WallType::kSlip)
+                             .base(WallType::kFixed)
+                             .damping(0.1);
+  const Scene s = b.build();
+  Solver solver = b.solver();
   // Scales of the self-weight problem: strain rho g H / M, settlement rho g H^2 / (2 M),
   // and the velocity a settling wave would carry, strain * c.
   const double H = 0.3, M = M_of(s), rho = 2000.0;
@@ -107,12 +87,12 @@ TEST(Walls, BlockOnAFixedBaseStaysAtRest) {
 
 TEST(Walls, BlockOnAFixedBaseSettlesWithDamping) {
   // The same block started stress-free: it settles, and local damping brings it to rest.
-  Scene s = block_scene(Vec3(0.1, 0.05, 0.4), Vec3::Zero(), Vec3(0.1, 0.05, 0.3));
-  s.walls = {WallParams{WallType::kSlip, 0},  WallParams{WallType::kSlip, 0},
-             WallParams{WallType::kSlip, 0},  WallParams{WallType::kSlip, 0},
-             WallParams{WallType::kFixed, 0}, WallParams{WallType::kFree, 0}};
-  s.solver.local_damping = 0.15;
-  Solver solver = make_solver(s);
+  const SceneBuilder b = block_scene(Vec3(0.1, 0.05, 0.4), Vec3::Zero(), Vec3(0.1, 0.05, 0.3))
+                             .side_walls(WallType::kSlip)
+                             .base(WallType::kFixed)
+                             .damping(0.15);
+  const Scene s = b.build();
+  Solver solver = b.solver();
   double v_peak = 0.0;
   while (solver.time() < 0.3) {
     solver.step();
@@ -140,22 +120,21 @@ TEST(Walls, BlockOnAFixedBaseSettlesWithDamping) {
 namespace {
 
 // A block 0.2 x 0.05 x 0.1 m sliding at 1 m/s along x on the base, slip walls in y.
-Scene sliding_scene(WallType base, double mu) {
-  Scene s = block_scene(Vec3(0.6, 0.05, 0.2), Vec3(0.05, 0.0, 0.0), Vec3(0.25, 0.05, 0.1));
-  s.regions[0].velocity = Vec3(1.0, 0.0, 0.0);
-  s.regions[0].geostatic = true;
-  s.regions[0].k0 = 0.3 / 0.7;
-  s.walls[2] = WallParams{WallType::kSlip, 0};
-  s.walls[3] = WallParams{WallType::kSlip, 0};
-  s.walls[4] = WallParams{base, mu};
-  s.solver.flip = 1.0;
-  return s;
+Solver sliding_block(WallType base, double mu) {
+  return block_scene(Vec3(0.6, 0.05, 0.2), Vec3(0.05, 0.0, 0.0), Vec3(0.25, 0.05, 0.1))
+      .velocity(Vec3(1.0, 0.0, 0.0))
+      .geostatic(0.3 / 0.7)
+      .wall(Face::kYMin, WallType::kSlip)
+      .wall(Face::kYMax, WallType::kSlip)
+      .base(base, mu)
+      .flip(1.0)
+      .solver();
 }
 
 }  // namespace
 
 TEST(Walls, SlipBaseKeepsTheTangentialVelocity) {
-  Solver slip = make_solver(sliding_scene(WallType::kSlip, 0.0));
+  Solver slip = sliding_block(WallType::kSlip, 0.0);
   double min_z = 1.0;
   while (slip.time() < 0.1) {
     slip.step();
@@ -167,14 +146,14 @@ TEST(Walls, SlipBaseKeepsTheTangentialVelocity) {
   EXPECT_GT(min_z, 0.0);
 
   // The same block on a fixed (no-slip) base is held back.
-  Solver fixed = make_solver(sliding_scene(WallType::kFixed, 0.0));
+  Solver fixed = sliding_block(WallType::kFixed, 0.0);
   run_until(fixed, 0.1);
   EXPECT_LT(mean_velocity(fixed.particles()).x(), 0.9);
 }
 
 TEST(Walls, FrictionBaseDeceleratesAtMuG) {
   const double mu = 0.3;
-  Solver solver = make_solver(sliding_scene(WallType::kFriction, mu));
+  Solver solver = sliding_block(WallType::kFriction, mu);
   run_until(solver, 0.05);
   const double t1 = solver.time(), v1 = mean_velocity(solver.particles()).x();
   run_until(solver, 0.25);
@@ -190,15 +169,15 @@ TEST(Walls, FrictionBaseDeceleratesAtMuG) {
 
 TEST(VelocityConstraints, HeldUntilTheReleaseTime) {
   // A block in the air, propped by a constraint holding v_z = 0 on every node until 0.02 s.
-  Scene s = block_scene(Vec3(0.2, 0.2, 0.4), Vec3(0.05, 0.05, 0.25), Vec3(0.15, 0.15, 0.35));
   VelocityConstraintParams c;
   c.name = "prop";
   c.min = Vec3(-1, -1, -1);
   c.max = Vec3(1, 1, 1);
   c.components = {{false, false, true}};
   c.release_time = 0.02;
-  s.constraints.push_back(c);
-  Solver solver = make_solver(s);
+  Solver solver = block_scene(Vec3(0.2, 0.2, 0.4), Vec3(0.05, 0.05, 0.25), Vec3(0.15, 0.15, 0.35))
+                      .constraint(c)
+                      .solver();
   ASSERT_EQ(solver.boundary_conditions().constraint_count(), 1u);
   EXPECT_EQ(solver.boundary_conditions().constraint_nodes(0).size(), solver.grid().size());
   double t_release = -1.0;
@@ -226,11 +205,6 @@ TEST(VelocityConstraints, HeldUntilTheReleaseTime) {
 TEST(VelocityConstraints, ReleasedWhenKineticEnergyRatioDrops) {
   // A block settling on a fixed base with damping; 'lateral' holds v_x = 0 on the plane
   // x = 0.05 and is released once E_k / E_p0 < ratio after 0.03 s.
-  Scene s = block_scene(Vec3(0.1, 0.05, 0.3), Vec3::Zero(), Vec3(0.1, 0.05, 0.2));
-  s.walls[2] = WallParams{WallType::kSlip, 0};
-  s.walls[3] = WallParams{WallType::kSlip, 0};
-  s.walls[4] = WallParams{WallType::kFixed, 0};
-  s.solver.local_damping = 0.2;
   VelocityConstraintParams c;
   c.name = "lateral";
   c.min = Vec3(0.05, -1, -1);
@@ -238,8 +212,13 @@ TEST(VelocityConstraints, ReleasedWhenKineticEnergyRatioDrops) {
   c.components = {{true, false, false}};
   c.release_kinetic_ratio = 1e-7;
   c.release_min_time = 0.03;
-  s.constraints.push_back(c);
-  Solver solver = make_solver(s);
+  Solver solver = block_scene(Vec3(0.1, 0.05, 0.3), Vec3::Zero(), Vec3(0.1, 0.05, 0.2))
+                      .wall(Face::kYMin, WallType::kSlip)
+                      .wall(Face::kYMax, WallType::kSlip)
+                      .base(WallType::kFixed)
+                      .damping(0.2)
+                      .constraint(c)
+                      .solver();
   // The plane's nodes: all at x = 0.05.
   for (std::size_t i : solver.boundary_conditions().constraint_nodes(0)) {
     const auto l = solver.grid().lattice(i);

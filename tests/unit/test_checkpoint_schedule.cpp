@@ -12,17 +12,18 @@
 #include <sstream>
 #include <string>
 
-#include "config/scene_loader.hpp"
 #include "constitutive/linear_elastic.hpp"
 #include "mpmdem/errors.hpp"
 #include "output/checkpoint.hpp"
 #include "output/checkpoint_schedule.hpp"
-#include "particle_init.hpp"
 #include "run_driver.hpp"
+#include "scene_builder.hpp"
 #include "solver.hpp"
 #include "test_support.hpp"
 
 using namespace mpmdem::mpm;
+using test_fixture::quiet_options;
+using test_fixture::SceneBuilder;
 using test_support::TempDir;
 namespace fs = std::filesystem;
 
@@ -110,7 +111,7 @@ TEST(CheckpointPruning, KeepsTheNewestTwoCompleteAndDropsOlderIncompleteOnes) {
 }
 
 TEST(CheckpointDefaults, TheDefaultSceneCheckpointsByWallTime) {
-  const Scene s = load_scene(std::string(MPMDEM_SOURCE_DIR) + "/configs/column_collapse.yaml");
+  const Scene s = SceneBuilder::config("configs/column_collapse.yaml").build();
   EXPECT_EQ(s.output.checkpoint_interval_steps, 0);  // the scene sets no step interval ...
   EXPECT_GT(s.output.checkpoint_interval_s, 0.0);    // ... and is checkpointed all the same
   EXPECT_EQ(s.output.checkpoints_kept, 2);
@@ -130,16 +131,10 @@ Ran run(const Scene& scene, const std::string& dir, const std::string& resume = 
         std::function<double()> clock = {}) {
   Ran r;
   std::ostringstream sink;
-  RunOptions o;
+  RunOptions o = quiet_options(dir, sink, &r.final_state);
   o.clock = std::move(clock);
-  o.out_dir = dir;
-  o.threads = 1;
-  o.handle_signals = false;
-  o.out = &sink;
-  o.err = &sink;
   o.force = true;
   o.resume = resume;
-  o.final_particles = &r.final_state;
   r.result = run_scene(scene, o);
   r.energies = test_support::read_file(dir + "/energies.csv");
   return r;
@@ -152,6 +147,7 @@ double figure(const RunSummary& s, const std::string& key) {
 }
 
 void expect_same_points(const Particles& a, const Particles& b) {
+  ASSERT_GT(a.size(), 0u) << "no points to compare (no final state returned?)";
   ASSERT_EQ(a.size(), b.size());
   for (std::size_t q = 0; q < a.size(); ++q) {
     ASSERT_EQ(a.x[q], b.x[q]) << "point " << q;
@@ -172,10 +168,13 @@ void expect_same_points(const Particles& a, const Particles& b) {
 TEST(CheckpointTime, TimeTriggeredRunEndsAsWithoutAndResumesBitwise) {
   auto ticking_clock = [] { return [t = 0.0]() mutable { return t += 1e-3; }; };
   TempDir plain("ckpt_plain"), timed("ckpt_timed"), resumed("ckpt_resumed");
-  Scene scene = load_scene(std::string(MPMDEM_SOURCE_DIR) + "/configs/column_collapse_mc.yaml");
-  scene.output.vtk = false;
-  scene.output.checkpoint_interval_steps = 0;
-  scene.output.checkpoint_interval_s = 0.0;
+  Scene scene = SceneBuilder::config("configs/column_collapse_mc.yaml")
+                    .with([](Scene& s) {
+                      s.output.vtk = false;
+                      s.output.checkpoint_interval_steps = 0;
+                      s.output.checkpoint_interval_s = 0.0;
+                    })
+                    .build();
   const Ran a = run(scene, plain.str());
   ASSERT_EQ(a.result.exit_code, 0);
   EXPECT_FALSE(fs::exists(plain.path() / "checkpoints"));
@@ -241,11 +240,12 @@ class FailingProvider : public ConstitutiveProvider {
 // Before: a failed exchange left step n+1 positions with step n stresses in the fault
 // checkpoint. Now the solver's state after the fault is exactly that after step n.
 TEST(FaultState, FailedExchangeLeavesTheLastCompletedStep) {
-  Scene s = load_scene(std::string(MPMDEM_SOURCE_DIR) + "/configs/elastic_column.yaml");
-  s.constitutive.model = kRemoteModel;  // points restorable, as with a DEM server
-  s.coupling.outputs = 0;
-  Solver failing(s, generate_particles(s), std::make_unique<FailingProvider>(s.constitutive, 3));
-  Solver reference(s, generate_particles(s), std::make_unique<FailingProvider>(s.constitutive, -1));
+  const SceneBuilder b = SceneBuilder::config("configs/elastic_column.yaml")
+                             .model(kRemoteModel)  // points restorable, as with a DEM server
+                             .with([](Scene& s) { s.coupling.outputs = 0; });
+  const Scene s = b.build();
+  Solver failing = b.solver(std::make_unique<FailingProvider>(s.constitutive, 3));
+  Solver reference = b.solver(std::make_unique<FailingProvider>(s.constitutive, -1));
   for (int i = 0; i < 2; ++i) {
     failing.step();
     reference.step();

@@ -20,16 +20,19 @@
 #include "constitutive/drucker_prager.hpp"
 #include "output/checkpoint.hpp"
 #include "run_driver.hpp"
+#include "scene_builder.hpp"
 #include "test_support.hpp"
 
 using namespace mpmdem::mpm;
+using test_fixture::quiet_options;
+using test_fixture::SceneBuilder;
 using test_support::TempDir;
 namespace fs = std::filesystem;
 
 namespace {
 
-Scene mc_scene() {
-  return load_scene(std::string(MPMDEM_SOURCE_DIR) + "/configs/column_collapse_mc.yaml");
+SceneBuilder mc_scene() {
+  return SceneBuilder::config("configs/column_collapse_mc.yaml");
 }
 
 struct ColumnRun {
@@ -41,15 +44,9 @@ struct ColumnRun {
 ColumnRun run(const Scene& scene, const std::string& dir, const std::string& resume = "") {
   ColumnRun r;
   std::ostringstream sink;
-  RunOptions o;
-  o.out_dir = dir;
-  o.threads = 1;
-  o.handle_signals = false;
-  o.out = &sink;
-  o.err = &sink;
+  RunOptions o = quiet_options(dir, sink, &r.final_state);
   o.force = true;
   o.resume = resume;
-  o.final_particles = &r.final_state;
   r.result = run_scene(scene, o);
   std::ifstream in(dir + "/energies.csv");
   std::string line;
@@ -75,7 +72,7 @@ double figure(const RunSummary& s, const std::string& key) {
 
 TEST(ColumnCollapse, LocalModelConservesMassDissipatesAndRunsOutInTheLawsBand) {
   TempDir dir("mc");
-  const Scene scene = mc_scene();
+  const Scene scene = mc_scene().build();
   const ColumnRun r = run(scene, dir.str());
   ASSERT_EQ(r.result.exit_code, 0);
   const RunSummary& s = r.result.summary;
@@ -83,6 +80,7 @@ TEST(ColumnCollapse, LocalModelConservesMassDissipatesAndRunsOutInTheLawsBand) {
   EXPECT_EQ(s.removed_points, 0u);
   EXPECT_NEAR(s.mass_grid_kg, s.mass_initial_kg, 1e-12 * s.mass_initial_kg);
   const Grid grid(scene.grid);
+  ASSERT_GT(r.final_state.size(), 0u) << "the run returned no final state";
   for (const auto& x : r.final_state.x) ASSERT_TRUE(grid.contains(x)) << x.transpose();
   // Stage 1 ended by its own rule, stage 2 by the at-rest stop, between min_t_star and 6 t*.
   const ColumnGeometry g = column_geometry(scene);
@@ -166,10 +164,8 @@ TEST(ColumnCollapse, LocalModelConservesMassDissipatesAndRunsOutInTheLawsBand) {
 // this cfl, and points left the deposit.
 TEST(ColumnCollapse, CoulombBaseKeepsTheEnergyBudgetClosed) {
   TempDir dir("mc_coulomb");
-  Scene scene = mc_scene();
+  const Scene scene = mc_scene().base(WallType::kFriction, 0.52).build();
   ASSERT_EQ(scene.solver.scheme, Scheme::kUSL);
-  scene.walls[4].type = WallType::kFriction;  // z_min
-  scene.walls[4].friction = 0.52;
   const ColumnRun r = run(scene, dir.str());
   ASSERT_EQ(r.result.exit_code, 0);
   const RunSummary& s = r.result.summary;
@@ -190,15 +186,20 @@ TEST(ColumnCollapse, CoulombBaseKeepsTheEnergyBudgetClosed) {
 // half of what the shipped PIC/FLIP blend dissipates on the same column.
 TEST(ColumnCollapse, DisconnectedStateBringsApicWithAFlipShareToRest) {
   TempDir d_shipped("shipped"), d_apic("apic"), d_disc("disc");
-  const Scene disc =
-      load_scene(std::string(MPMDEM_SOURCE_DIR) + "/configs/column_collapse_mc_apic.yaml");
+  const SceneBuilder apic_file = SceneBuilder::config("configs/column_collapse_mc_apic.yaml");
+  const Scene disc = apic_file.build();
   ASSERT_EQ(disc.solver.transfer, Transfer::kAPIC);
   ASSERT_EQ(drucker_prager_params(disc.constitutive).disconnection_volume_ratio, 1.5);
-  Scene apic = disc;  // the same without the disconnected state
-  edit_drucker_prager_params(apic.constitutive).disconnection_volume_ratio = 0.0;
-  apic.solver.on_exit = OnExit::kRemove;
-  Scene shipped = mc_scene();  // PIC/FLIP, on the same domain
-  shipped.grid.extent.x() = disc.grid.extent.x();
+  const Scene apic = SceneBuilder(apic_file)  // the same without the disconnected state
+                         .with([](Scene& s) {
+                           edit_drucker_prager_params(s.constitutive).disconnection_volume_ratio =
+                               0.0;
+                         })
+                         .on_exit(OnExit::kRemove)
+                         .build();
+  const Scene shipped = mc_scene()  // PIC/FLIP, on the same domain
+                            .with([&](Scene& s) { s.grid.extent.x() = disc.grid.extent.x(); })
+                            .build();
   const ColumnRun a = run(shipped, d_shipped.str());
   const ColumnRun b = run(apic, d_apic.str());
   const ColumnRun c = run(disc, d_disc.str());
@@ -271,9 +272,12 @@ TEST(ColumnCollapse, FrontIgnoresPointsThatLeftTheDeposit) {
 
 TEST(ColumnCollapse, HigherFrictionRunsOutLessAndStandsTaller) {
   TempDir d20("phi20"), d35("phi35");
-  Scene low = mc_scene();
-  Scene high = mc_scene();
-  edit_drucker_prager_params(high.constitutive).friction_angle_deg = 35.0;
+  const Scene low = mc_scene().build();
+  const Scene high = mc_scene()
+                         .with([](Scene& s) {
+                           edit_drucker_prager_params(s.constitutive).friction_angle_deg = 35.0;
+                         })
+                         .build();
   const ColumnRun a = run(low, d20.str());
   const ColumnRun b = run(high, d35.str());
   ASSERT_EQ(a.result.exit_code, 0);
@@ -288,10 +292,9 @@ TEST(ColumnCollapse, AtRestStopEndsWithinHalfAPercentOfTheFullRun) {
   // The scene stops at rest (E_k/E_p0 below the ratio for the hold); the same scene without
   // column_collapse.at_rest runs the full 6 t*. The deposit must be the same to 0.5 %.
   TempDir d_rest("rest"), d_full("full");
-  Scene rest = mc_scene();
-  rest.output.vtk = false;
-  Scene full = rest;
-  full.column_collapse.at_rest = false;
+  SceneBuilder scene = mc_scene().with([](Scene& s) { s.output.vtk = false; });
+  const Scene rest = scene.build();
+  const Scene full = scene.with([](Scene& s) { s.column_collapse.at_rest = false; }).build();
   const ColumnRun a = run(rest, d_rest.str());
   const ColumnRun b = run(full, d_full.str());
   ASSERT_EQ(a.result.exit_code, 0);
@@ -369,6 +372,7 @@ void resumed_run_ends_in_the_uninterrupted_state(Scene scene) {
   EXPECT_EQ(b.result.summary.resumed_from_step, ckpt_step);
   EXPECT_EQ(b.result.summary.steps_this_run, a.result.summary.steps - ckpt_step);
   EXPECT_EQ(a.result.summary.steps_this_run, a.result.summary.steps);
+  ASSERT_GT(a.final_state.size(), 0u) << "the run returned no final state";
   ASSERT_EQ(a.final_state.size(), b.final_state.size());
   for (std::size_t q = 0; q < a.final_state.size(); ++q) {
     ASSERT_EQ(a.final_state.x[q], b.final_state.x[q]) << "point " << q;
@@ -394,7 +398,7 @@ TEST(ColumnCollapse, ResumedRunEndsInExactlyTheUninterruptedState) {
   for (const char* file : {"column_collapse_mc.yaml", "column_collapse_mc_apic.yaml"}) {
     SCOPED_TRACE(file);
     resumed_run_ends_in_the_uninterrupted_state(
-        load_scene(std::string(MPMDEM_SOURCE_DIR) + "/configs/" + file));
+        SceneBuilder::config(std::string("configs/") + file).build());
   }
 }
 
@@ -422,7 +426,7 @@ TEST(ColumnCollapse, SceneErrorsNameTheKey) {
 }
 
 TEST(ColumnCollapse, AtRestKeysAreReadCheckedAndNamed) {
-  const Scene scene = mc_scene();
+  const Scene scene = mc_scene().build();
   ASSERT_TRUE(scene.column_collapse.at_rest);
   EXPECT_EQ(scene.column_collapse.at_rest_kinetic_ratio, 2e-5);
   EXPECT_EQ(scene.column_collapse.at_rest_hold_t_star, 0.25);
@@ -505,10 +509,13 @@ TEST(ColumnCollapse, SnapshotTimesAreAnIncreasingListOfAnyLength) {
   }
 
   // One snapshot, at 0.5 t*, on a run to 1 t*: that file and no other.
-  Scene scene = mc_scene();
-  scene.column_collapse.snapshots_t_star = {0.5};
-  scene.column_collapse.duration_t_star = 1.0;
-  scene.column_collapse.at_rest = false;
+  const Scene scene = mc_scene()
+                          .with([](Scene& s) {
+                            s.column_collapse.snapshots_t_star = {0.5};
+                            s.column_collapse.duration_t_star = 1.0;
+                            s.column_collapse.at_rest = false;
+                          })
+                          .build();
   TempDir out("snapshot_one");
   const ColumnRun r = run(scene, out.str());
   ASSERT_EQ(r.result.exit_code, 0);

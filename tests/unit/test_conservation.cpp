@@ -15,17 +15,17 @@
 #include <random>
 #include <string>
 
-#include "block_scenes.hpp"
 #include "constitutive/linear_elastic.hpp"
 #include "grid.hpp"
 #include "node_loops.hpp"
-#include "particle_init.hpp"
+#include "scene_builder.hpp"
 #include "solver.hpp"
 #include "transfers.hpp"
 #include "xpic.hpp"
 
 using namespace mpmdem::mpm;
-using mpmdem::mpm::test_scenes::flying_block;
+using test_fixture::flying_block;
+using test_fixture::SceneBuilder;
 
 namespace {
 
@@ -107,13 +107,14 @@ Vec3 point_momentum(const Particles& P) {
 // A translating and spinning block (USL is tested with B-splines only: with linear shape
 // functions it is unstable when points cross cells, see solver.hpp).
 void check_flying_block(ShapeKind shape, Scheme scheme, Transfer transfer, double flip) {
-  const Scene scene = flying_block(shape, scheme, transfer, flip);
-  Particles p = generate_particles(scene);
+  const SceneBuilder b = flying_block().shape(shape).scheme(scheme).transfer(transfer, flip);
+  const Scene scene = b.build();
+  Particles p = b.particles();
   const Vec3 c(0.5, 0.495, 0.525), v0(0.3, -0.2, 0.1), omega(2.0, -1.0, 3.0);
   for (std::size_t q = 0; q < p.size(); ++q) {
     p.v[q] = v0 + omega.cross(p.x[q] - c);
   }
-  Solver solver(scene, p, make_linear_elastic(scene.constitutive));
+  Solver solver = b.solver(p);
   auto momentum = [&solver] { return point_momentum(solver.particles()); };
   auto centre_of_mass = [&solver] {
     const Particles& P = solver.particles();
@@ -228,14 +229,17 @@ namespace {
 // a tilted axis, over 1,000 steps (the largest |L(t) - L(0)| / |L(0)|).
 double spinning_block_drift(ShapeKind shape, Scheme scheme, Transfer transfer, double flip,
                             int xpic_order = 1) {
-  Scene scene = flying_block(shape, scheme, transfer, flip);
-  scene.solver.xpic_order = xpic_order;
-  scene.grid.origin = Vec3(0.3, 0.3, 0.35);  // room for the spinning block only
-  scene.grid.extent = Vec3(0.4, 0.4, 0.4);
-  Particles p = generate_particles(scene);
+  const SceneBuilder b =
+      flying_block()
+          .shape(shape)
+          .scheme(scheme)
+          .transfer(transfer, flip)
+          .xpic_order(xpic_order)
+          .domain(Vec3(0.4, 0.4, 0.4), Vec3(0.3, 0.3, 0.35));  // room for the spin
+  Particles p = b.particles();
   const Vec3 c(0.5, 0.495, 0.525), omega(2.0, -1.0, 3.0);
   for (std::size_t q = 0; q < p.size(); ++q) p.v[q] = omega.cross(p.x[q] - c);
-  Solver solver(scene, p, make_linear_elastic(scene.constitutive));
+  Solver solver = b.solver(p);
   const Vec3 L0 = solver.angular_momentum();
   double drift = 0.0;
   for (int n = 0; n < 1000; ++n) {
@@ -274,16 +278,17 @@ TEST(SpinningBlock, ApicConservesAngularMomentum) {
 // (tau = 100 dt) must keep more of the spin's energy than APIC and create none.
 TEST(SpinningBlock, ApicWithAFlipShareDampsLessThanApic) {
   auto run = [](double tau_over_dt, double& drift) {
-    Scene scene = flying_block(ShapeKind::kQuadraticBSpline, Scheme::kUSL, Transfer::kAPIC, 0.0);
-    scene.grid.origin = Vec3(0.3, 0.3, 0.35);
-    scene.grid.extent = Vec3(0.4, 0.4, 0.4);
-    Particles p = generate_particles(scene);
+    SceneBuilder b = flying_block()
+                         .shape(ShapeKind::kQuadraticBSpline)
+                         .scheme(Scheme::kUSL)
+                         .transfer(Transfer::kAPIC, 0.0)
+                         .domain(Vec3(0.4, 0.4, 0.4), Vec3(0.3, 0.3, 0.35));
+    Particles p = b.particles();
     const Vec3 c(0.5, 0.495, 0.525), omega(2.0, -1.0, 3.0);
     for (std::size_t q = 0; q < p.size(); ++q) p.v[q] = omega.cross(p.x[q] - c);
     // The step is the automatic one; a first solver tells its size.
-    const double dt = Solver(scene, p, make_linear_elastic(scene.constitutive)).dt();
-    scene.solver.flip_time_scale = tau_over_dt * dt;
-    Solver solver(scene, p, make_linear_elastic(scene.constitutive));
+    const double dt = b.solver(p).dt();
+    Solver solver = b.flip_time_scale(tau_over_dt * dt).solver(p);
     const double E0 = solver.energies().E_k;
     const Vec3 L0 = solver.angular_momentum();
     drift = 0.0;
@@ -342,12 +347,15 @@ class HalfWithoutContacts final : public ConstitutiveProvider {
 // (sum_i N_ip (x_i - x_p) = 0 for the B-splines), so the translating, spinning block keeps
 // its momentum to round-off while half its points are stress-free and affine-free.
 TEST(FlyingBlock, PointsWithoutContactsCarryNoAffineVelocity) {
-  Scene scene = flying_block(ShapeKind::kQuadraticBSpline, Scheme::kUSL, Transfer::kAPIC, 0.0);
-  scene.solver.flip_time_scale = 0.05;
-  Particles p = generate_particles(scene);
+  const SceneBuilder b = flying_block()
+                             .shape(ShapeKind::kQuadraticBSpline)
+                             .scheme(Scheme::kUSL)
+                             .transfer(Transfer::kAPIC, 0.0)
+                             .flip_time_scale(0.05);
+  Particles p = b.particles();
   const Vec3 c(0.5, 0.495, 0.525), v0(0.3, -0.2, 0.1), omega(2.0, -1.0, 3.0);
   for (std::size_t q = 0; q < p.size(); ++q) p.v[q] = v0 + omega.cross(p.x[q] - c);
-  Solver solver(scene, p, std::make_unique<HalfWithoutContacts>(scene.constitutive));
+  Solver solver = b.solver(p, std::make_unique<HalfWithoutContacts>(b.build().constitutive));
   auto momentum = [&solver] { return point_momentum(solver.particles()); };
   const Vec3 mv0 = momentum();
   for (int n = 0; n < 100; ++n) {
@@ -368,9 +376,9 @@ TEST(FlyingBlock, PointsWithoutContactsCarryNoAffineVelocity) {
 
 // APIC with trilinear shapes is refused (unstable: see solver.transfer).
 TEST(SpinningBlock, ApicWithLinearShapesIsRefused) {
-  const Scene scene = flying_block(ShapeKind::kLinear, Scheme::kMUSL, Transfer::kAPIC, 0.0);
-  EXPECT_THROW(Solver(scene, generate_particles(scene), make_linear_elastic(scene.constitutive)),
-               std::invalid_argument);
+  const SceneBuilder b =
+      flying_block().shape(ShapeKind::kLinear).scheme(Scheme::kMUSL).transfer(Transfer::kAPIC, 0.0);
+  EXPECT_THROW(b.solver(), std::invalid_argument);
 }
 
 // A stress-free block in uniform translation is carried exactly: C stays 0, every point keeps
@@ -380,12 +388,16 @@ TEST(SpinningBlock, ApicWithLinearShapesIsRefused) {
 TEST(FlyingBlock, UniformTranslationIsExactApic) {
   for (double tau : {0.0, 0.05}) {
     for (Scheme scheme : {Scheme::kMUSL, Scheme::kUSL}) {
-      Scene scene = flying_block(ShapeKind::kQuadraticBSpline, scheme, Transfer::kAPIC, 0.0);
-      scene.solver.flip_time_scale = tau;
-      Particles p = generate_particles(scene);
+      const SceneBuilder b = flying_block()
+                                 .shape(ShapeKind::kQuadraticBSpline)
+                                 .scheme(scheme)
+                                 .transfer(Transfer::kAPIC, 0.0)
+                                 .flip_time_scale(tau);
+      const Scene scene = b.build();
+      Particles p = b.particles();
       const Vec3 v0(0.7, -0.3, 0.2);
       for (auto& v : p.v) v = v0;
-      Solver solver(scene, p, make_linear_elastic(scene.constitutive));
+      Solver solver = b.solver(p);
       if (tau > 0.0) {
         ASSERT_GT(flip_fraction(scene.solver, solver.dt()), 0.5);
       }
@@ -406,14 +418,18 @@ TEST(FlyingBlock, UniformTranslationIsExactApic) {
 // velocities and positions as the PIC/FLIP path with flip 0, through different code.
 TEST(Xpic, OrderOneIsPic) {
   for (ShapeKind shape : {ShapeKind::kLinear, ShapeKind::kQuadraticBSpline}) {
-    Scene pic = flying_block(shape, Scheme::kMUSL, Transfer::kPicFlip, 0.0);
-    Scene xpic = flying_block(shape, Scheme::kMUSL, Transfer::kXPIC, 0.0);
-    xpic.solver.xpic_order = 1;
-    Particles p = generate_particles(pic);
+    const SceneBuilder pic =
+        flying_block().shape(shape).scheme(Scheme::kMUSL).transfer(Transfer::kPicFlip, 0.0);
+    const SceneBuilder xpic = flying_block()
+                                  .shape(shape)
+                                  .scheme(Scheme::kMUSL)
+                                  .transfer(Transfer::kXPIC, 0.0)
+                                  .xpic_order(1);
+    Particles p = pic.particles();
     const Vec3 c(0.5, 0.495, 0.525), v0(0.3, -0.2, 0.1), omega(2.0, -1.0, 3.0);
     for (std::size_t q = 0; q < p.size(); ++q) p.v[q] = v0 + omega.cross(p.x[q] - c);
-    Solver a(pic, p, make_linear_elastic(pic.constitutive));
-    Solver b(xpic, p, make_linear_elastic(xpic.constitutive));
+    Solver a = pic.solver(p);
+    Solver b = xpic.solver(p);
     for (int n = 0; n < 50; ++n) {
       a.step();
       b.step();
@@ -433,14 +449,16 @@ TEST(Xpic, OrderOneIsPic) {
 // XPIC(4) must keep strictly more of it, in that order (10 steps: this small block, 4 x 3 x 3
 // cells, is mostly boundary, and PIC loses 27 % of the spin's energy in its first step).
 double spin_energy_kept(ShapeKind shape, int order) {
-  Scene scene = flying_block(shape, Scheme::kMUSL, Transfer::kXPIC, 0.0);
-  scene.solver.xpic_order = order;
-  scene.grid.origin = Vec3(0.3, 0.3, 0.35);
-  scene.grid.extent = Vec3(0.4, 0.4, 0.4);
-  Particles p = generate_particles(scene);
+  const SceneBuilder b = flying_block()
+                             .shape(shape)
+                             .scheme(Scheme::kMUSL)
+                             .transfer(Transfer::kXPIC, 0.0)
+                             .xpic_order(order)
+                             .domain(Vec3(0.4, 0.4, 0.4), Vec3(0.3, 0.3, 0.35));
+  Particles p = b.particles();
   const Vec3 c(0.5, 0.495, 0.525), omega(2.0, -1.0, 3.0);
   for (std::size_t q = 0; q < p.size(); ++q) p.v[q] = omega.cross(p.x[q] - c);
-  Solver solver(scene, p, make_linear_elastic(scene.constitutive));
+  Solver solver = b.solver(p);
   const double E0 = solver.energies().E_k;
   for (int n = 0; n < 10; ++n) solver.step();
   const Energies e = solver.energies();
@@ -515,12 +533,16 @@ TEST(Xpic, HighOrderRecoversTheGridFieldThePointsCarry) {
 // order transports it exactly.
 TEST(Xpic, UniformTranslationIsExact) {
   for (ShapeKind shape : {ShapeKind::kLinear, ShapeKind::kQuadraticBSpline}) {
-    Scene scene = flying_block(shape, Scheme::kMUSL, Transfer::kXPIC, 0.0);
-    scene.solver.xpic_order = 4;
-    Particles p = generate_particles(scene);
+    const SceneBuilder b = flying_block()
+                               .shape(shape)
+                               .scheme(Scheme::kMUSL)
+                               .transfer(Transfer::kXPIC, 0.0)
+                               .xpic_order(4);
+    const Scene scene = b.build();
+    Particles p = b.particles();
     const Vec3 v0(1.5, -1.0, 0.5);  // more than a cell in 50 steps
     for (auto& v : p.v) v = v0;
-    Solver solver(scene, p, make_linear_elastic(scene.constitutive));
+    Solver solver = b.solver(p);
     for (int n = 0; n < 50; ++n) solver.step();
     const Particles& P = solver.particles();
     EXPECT_GT(solver.time() * v0.norm(), scene.grid.cell_size);

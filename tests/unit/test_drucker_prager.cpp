@@ -19,11 +19,13 @@
 #include "constitutive/drucker_prager.hpp"
 #include "constitutive/linear_elastic.hpp"
 #include "mpmdem/laws/elastic_law.hpp"
-#include "particle_init.hpp"
+#include "scene_builder.hpp"
 #include "solver.hpp"
 #include "stress_invariants.hpp"
 
 using namespace mpmdem::mpm;
+using test_fixture::Face;
+using test_fixture::SceneBuilder;
 
 namespace {
 
@@ -391,60 +393,25 @@ struct PileResult {
   double E_strain = 0.0;
 };
 
-template <class T>
-void keep_only(std::vector<T>& v, const std::vector<char>& keep) {
-  if (v.empty()) return;
-  std::vector<T> out;
-  for (std::size_t i = 0; i < v.size(); ++i)
-    if (keep[i]) out.push_back(v[i]);
-  v.swap(out);
-}
-
 PileResult run_pile(double phi_deg) {
   const double h = 0.05, L = 0.5;
-  Scene s;
-  s.name = "pile";
-  s.grid.cell_size = h;
-  s.grid.extent = Vec3(1.0, h, 0.4);
-  s.solver.gravity = Vec3(0, 0, -9.81);
-  s.solver.end_time = 1.0;  // ~6 t* of the 0.29 m pile
-  s.solver.cfl = 0.5;
-  s.solver.local_damping = 0.1;
-  s.walls[0].type = WallType::kSlip;  // x_min: symmetry plane
-  s.walls[2].type = WallType::kSlip;  // y_min, y_max: plane strain
-  s.walls[3].type = WallType::kSlip;
-  s.walls[4].type = WallType::kFixed;  // z_min: rough base
-  s.constitutive = dp_params(phi_deg);
-  s.constitutive.youngs_modulus = 2e6;
-  RegionParams r;
-  r.name = "box";
-  r.min = Vec3(0, 0, 0);
-  r.max = Vec3(L, h, L * std::tan(kBeta));
-  r.points_per_cell = 2;
-  r.density = 2000.0;
-  s.regions.push_back(r);
-  // Cut the box to the slope z <= tan(beta) (L - x).
-  Particles p = generate_particles(s);
-  std::vector<char> keep(p.size());
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    keep[i] = p.x[i].z() <= std::tan(kBeta) * (L - p.x[i].x());
-  }
-  keep_only(p.id, keep);
-  keep_only(p.region, keep);
-  keep_only(p.m, keep);
-  keep_only(p.V, keep);
-  keep_only(p.V0, keep);
-  keep_only(p.x, keep);
-  keep_only(p.x0, keep);
-  keep_only(p.v, keep);
-  keep_only(p.F, keep);
-  keep_only(p.dF, keep);
-  keep_only(p.sigma, keep);
-  keep_only(p.stiffness, keep);
-  keep_only(p.strain_energy, keep);
-  keep_only(p.state, keep);
-  for (std::size_t i = 0; i < p.id.size(); ++i) p.id[i] = static_cast<std::int64_t>(i);
-  Solver solver(s, p, make_drucker_prager(s.constitutive));
+  Solver solver = SceneBuilder()
+                      .name("pile")
+                      .cell(h)
+                      .domain(Vec3(1.0, h, 0.4))
+                      .end_time(1.0)  // ~6 t* of the 0.29 m pile
+                      .cfl(0.5)
+                      .damping(0.1)
+                      .wall(Face::kXMin, WallType::kSlip)  // symmetry plane
+                      .wall(Face::kYMin, WallType::kSlip)  // y_min, y_max: plane strain
+                      .wall(Face::kYMax, WallType::kSlip)
+                      .base(WallType::kFixed)  // rough base
+                      .with([&](Scene& s) { s.constitutive = dp_params(phi_deg); })
+                      .moduli(2e6, 0.3)
+                      .block("box", Vec3(0, 0, 0), Vec3(L, h, L * std::tan(kBeta)))
+                      // Cut the box to the slope z <= tan(beta) (L - x).
+                      .cut([&](const Vec3& x) { return x.z() <= std::tan(kBeta) * (L - x.x()); })
+                      .solver();
   while (!solver.finished()) solver.step();
   PileResult res;
   const Particles& q = solver.particles();

@@ -6,13 +6,12 @@
 #include <cmath>
 #include <cstdio>
 
-#include "block_scenes.hpp"
-#include "constitutive/linear_elastic.hpp"
-#include "particle_init.hpp"
+#include "scene_builder.hpp"
 #include "solver.hpp"
 
 using namespace mpmdem::mpm;
-using mpmdem::mpm::test_scenes::flying_block;
+using test_fixture::flying_block;
+using test_fixture::SceneBuilder;
 
 // The energy budget's W_transfer (energy_budget.hpp) is the kinetic energy the transfers
 // remove. Pure PIC projects the velocities twice per step (P2G and G2P), and with lumped
@@ -21,12 +20,14 @@ using mpmdem::mpm::test_scenes::flying_block;
 // then the budget's residual E_err up to the time integration's error. A uniform
 // translation is in that space: nothing is removed.
 TEST(EnergyBudget, TransferTermIsWhatPicRemoves) {
-  const Scene scene =
-      flying_block(ShapeKind::kQuadraticBSpline, Scheme::kUSL, Transfer::kPicFlip, 0.0);
-  Particles p = generate_particles(scene);
+  const SceneBuilder scene = flying_block()
+                                 .shape(ShapeKind::kQuadraticBSpline)
+                                 .scheme(Scheme::kUSL)
+                                 .transfer(Transfer::kPicFlip, 0.0);
+  Particles p = scene.particles();
   const Vec3 c(0.5, 0.495, 0.525), omega(2.0, -1.0, 3.0);
   for (std::size_t q = 0; q < p.size(); ++q) p.v[q] = omega.cross(p.x[q] - c);
-  Solver solver(scene, p, make_linear_elastic(scene.constitutive));
+  Solver solver = scene.solver(p);
   const double E_k0 = solver.energies().E_k;
   double W_prev = 0.0;
   for (int n = 0; n < 60; ++n) {
@@ -43,9 +44,9 @@ TEST(EnergyBudget, TransferTermIsWhatPicRemoves) {
   std::printf("spinning block, PIC, 60 steps: E_err / E_k0 = %.4f, W_transfer / E_k0 = %.4f\n",
               E_err / E_k0, b.W_transfer / E_k0);
 
-  Particles t = generate_particles(scene);
+  Particles t = scene.particles();
   for (auto& v : t.v) v = Vec3(0.7, -0.3, 0.2);
-  Solver translating(scene, t, make_linear_elastic(scene.constitutive));
+  Solver translating = scene.solver(t);
   for (int n = 0; n < 100; ++n) translating.step();
   EXPECT_LT(std::abs(translating.energy_budget().W_transfer), 1e-12 * translating.energies().E_k);
   EXPECT_EQ(b.W_transfer_walls, 0.0);  // no wall reached
@@ -60,13 +61,17 @@ TEST(EnergyBudget, TransferTermIsWhatPicRemoves) {
 // W_transfer_walls = 1/2 |u|^2 sum_p m_p S_p (1 - S_p), all of W_transfer.
 TEST(EnergyBudget, WallsStopThePointsMoreThanTheNodes) {
   for (ShapeKind shape : {ShapeKind::kLinear, ShapeKind::kQuadraticBSpline}) {
-    Scene scene = flying_block(shape, Scheme::kUSL, Transfer::kPicFlip, 1.0);
-    scene.regions[0].min.z() = 0.0;  // resting on the base
-    scene.walls[4].type = WallType::kFixed;
-    Particles p = generate_particles(scene);
+    const SceneBuilder scene =
+        flying_block()
+            .shape(shape)
+            .scheme(Scheme::kUSL)
+            .transfer(Transfer::kPicFlip, 1.0)
+            .with([](Scene& s) { s.regions[0].min.z() = 0.0; })  // on the base
+            .base(WallType::kFixed);
+    Particles p = scene.particles();
     const Vec3 u(0.5, 0.1, -0.2);
     for (auto& v : p.v) v = u;
-    Solver solver(scene, p, make_linear_elastic(scene.constitutive));
+    Solver solver = scene.solver(p);
     const double K0 = solver.energies().E_k;
     solver.step();
     const Particles& P = solver.particles();

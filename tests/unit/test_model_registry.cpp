@@ -19,6 +19,7 @@
 #include "constitutive/model_registry.hpp"
 #include "mpmdem/config/schema.hpp"
 #include "run_driver.hpp"
+#include "scene_builder.hpp"
 #include "test_support.hpp"
 
 using namespace mpmdem::mpm;
@@ -217,14 +218,8 @@ TEST(ModelRegistry, ASceneWithTheModelOfThisFileRunsWithItsClosedFormStress) {
 
   std::ostringstream log;
   Particles final_state;
-  RunOptions o;
-  o.out_dir = dir.str() + "/run";
-  o.threads = 1;
-  o.handle_signals = false;
-  o.out = &log;
-  o.err = &log;
-  o.final_particles = &final_state;
-  const RunResult r = run_scene(scene, o);
+  const RunResult r =
+      run_scene(scene, test_fixture::quiet_options(dir.str() + "/run", log, &final_state));
   ASSERT_EQ(r.exit_code, 0) << log.str();
   EXPECT_EQ(r.summary.model, "test_bulk");
   EXPECT_GT(r.summary.steps, 10);

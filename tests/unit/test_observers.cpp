@@ -8,27 +8,22 @@
 #include <string>
 #include <vector>
 
-#include "config/scene_loader.hpp"
-#include "constitutive/model_registry.hpp"
 #include "output/run_outputs.hpp"
-#include "particle_init.hpp"
 #include "run/checkpoints.hpp"
 #include "run/column_observer.hpp"
 #include "run/model_observer.hpp"
 #include "run/observer.hpp"
+#include "scene_builder.hpp"
 #include "test_support.hpp"
 
 using namespace mpmdem::mpm;
+using test_fixture::SceneBuilder;
 using test_support::TempDir;
 
 namespace {
 
-Scene column_scene() {
-  return load_scene(std::string(MPMDEM_SOURCE_DIR) + "/configs/column_collapse_mc.yaml");
-}
-
-std::unique_ptr<ConstitutiveProvider> local_provider(const Scene& scene) {
-  return local_model(scene.constitutive.model).make(scene.constitutive);
+SceneBuilder column_scene() {
+  return SceneBuilder::config("configs/column_collapse_mc.yaml");
 }
 
 // The observers that keep a part of a checkpoint, in the run's order.
@@ -56,8 +51,9 @@ struct Stateful {
 // done, the output schedule and the frames so far survive save -> restore -> save.
 TEST(Observers, EachRestoresTheStateItSaved) {
   TempDir dir("observers", TempDir::kCreate);
-  const Scene scene = column_scene();
-  Solver solver(scene, generate_particles(scene), local_provider(scene));
+  const SceneBuilder b = column_scene();
+  const Scene scene = b.build();
+  Solver solver = b.solver();
   std::ostringstream out;
   const std::string run_dir = dir.str();
   RunContext run{scene,
@@ -103,9 +99,10 @@ TEST(Observers, EachRestoresTheStateItSaved) {
 // once, and take the request back.
 TEST(Observers, AFrameAskedForIsWrittenOnceByTheOutputs) {
   TempDir dir("observers_frame", TempDir::kCreate);
-  Scene scene = column_scene();
-  scene.output.interval = 0.0;  // no frames by time: only the one at t = 0 and those asked for
-  Solver solver(scene, generate_particles(scene), local_provider(scene));
+  // No frames by time: only the one at t = 0 and those asked for.
+  const SceneBuilder b = column_scene().with([](Scene& s) { s.output.interval = 0.0; });
+  const Scene scene = b.build();
+  Solver solver = b.solver();
   std::ostringstream out;
   const std::string run_dir = dir.str();
   RunContext run{scene,

@@ -20,7 +20,6 @@
 #include <string>
 #include <vector>
 
-#include "config/scene_loader.hpp"
 #include "output/energy_log.hpp"
 #include "output/hdf5_writer.hpp"
 #include "output/run_directory.hpp"
@@ -28,10 +27,13 @@
 #include "output/vtk_writer.hpp"
 #include "progress.hpp"
 #include "run_driver.hpp"
+#include "scene_builder.hpp"
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
 using namespace mpmdem::mpm;
+using test_fixture::quiet_options;
+using test_fixture::SceneBuilder;
 using test_support::read_file;
 using test_support::TempDir;
 
@@ -161,25 +163,15 @@ std::string source(const std::string& rel) {
 }
 
 // The elastic column scene cut to a few steps: enough to exercise every output.
-Scene short_column() {
-  Scene scene = load_scene(source("configs/elastic_column.yaml"));
-  scene.solver.end_time = 20.0 * std::min(scene.solver.dt_max, 1e-4);
-  scene.output.interval = scene.solver.end_time / 2.0;
-  scene.output.energy_interval = 0.0;
-  scene.output.vtk = true;
-  scene.output.hdf5 = true;
-  scene.output.progress_interval_s = 0.0;
-  return scene;
-}
-
-RunOptions quiet_options(const std::string& dir, std::ostream& sink) {
-  RunOptions o;
-  o.out_dir = dir;
-  o.threads = 1;  // the runs are small: threads would only add barrier waits on a busy machine
-  o.handle_signals = false;
-  o.out = &sink;
-  o.err = &sink;
-  return o;
+SceneBuilder short_column() {
+  return SceneBuilder::config("configs/elastic_column.yaml").with([](Scene& s) {
+    s.solver.end_time = 20.0 * std::min(s.solver.dt_max, 1e-4);
+    s.output.interval = s.solver.end_time / 2.0;
+    s.output.energy_interval = 0.0;
+    s.output.vtk = true;
+    s.output.hdf5 = true;
+    s.output.progress_interval_s = 0.0;
+  });
 }
 
 }  // namespace
@@ -453,8 +445,9 @@ TEST(RunDirectory, ResumedLogWithFewerColumnsIsPaddedWithNan) {
 TEST(RunOutputs, AShortRunWritesEveryOutputConsistently) {
   TempDir dir("run", TempDir::kCreate);
   const std::string run = (dir.path() / "column").string();
-  Scene scene = short_column();
-  scene.source_file = "some/where/../scene.yaml";  // as given on the command line
+  // The scene's path as given on the command line.
+  const Scene scene =
+      short_column().with([](Scene& s) { s.source_file = "some/where/../scene.yaml"; }).build();
   std::ostringstream log;
   const RunResult r = run_scene(scene, quiet_options(run, log));
   ASSERT_EQ(r.exit_code, 0) << log.str();

@@ -14,9 +14,11 @@
 #include "config_test_support.hpp"
 #include "grid.hpp"
 #include "particle_init.hpp"
+#include "scene_builder.hpp"
 
 using namespace config_test;
 using namespace mpmdem::mpm;
+using mpmdem::mpm::test_fixture::SceneBuilder;
 
 namespace {
 
@@ -154,8 +156,7 @@ TEST(SceneRules, ReleaseConstraintNoneStartsStageTwoAtTimeZero) {
   EXPECT_EQ(*none.release_time(), 0.0);
   EXPECT_EQ(none.end_time(), scene.column_collapse.duration_t_star * none.geometry().t_star);
   // The shipped scene, for contrast: stage 1 lasts while the constraint holds the face.
-  const Scene held =
-      load_scene(std::string(MPMDEM_SOURCE_DIR) + "/configs/column_collapse_mc.yaml");
+  const Scene held = SceneBuilder::config("configs/column_collapse_mc.yaml").build();
   ColumnCollapseMonitor gated(held);
   EXPECT_EQ(column_geometry(held).constraint, 0);
   EXPECT_FALSE(gated.observe(0.0, BoundaryConditions(held, grid), p));

@@ -11,72 +11,34 @@
 #include "constitutive/linear_elastic.hpp"
 #include "constitutive/rve_point_state.hpp"
 #include "errors.hpp"
+#include "hooked_provider.hpp"
 #include "mpmdem/laws/elastic_law.hpp"
 #include "mpmdem/protocol.hpp"
 #include "particle_init.hpp"
+#include "scene_builder.hpp"
 #include "solver.hpp"
 #include "verification/elastic_column.hpp"
 
 using namespace mpmdem::mpm;
+using test_fixture::Face;
+using test_fixture::HookedProvider;
+using test_fixture::SceneBuilder;
+using test_fixture::Update;
 
-namespace {
-
-Scene box(double h, const Vec3& extent) {
-  Scene s;
-  s.name = "test";
-  s.grid.cell_size = h;
-  s.grid.extent = extent;
-  s.solver.gravity = Vec3(0, 0, -9.81);
-  s.constitutive.youngs_modulus = 1e7;
-  s.constitutive.poisson_ratio = 0.3;
-  return s;
-}
-
-RegionParams region(const std::string& name, const Vec3& min, const Vec3& max, int n = 2) {
-  RegionParams r;
-  r.name = name;
-  r.min = min;
-  r.max = max;
-  r.points_per_cell = n;
-  r.density = 2000.0;
-  return r;
-}
-
-// Linear elastic with a hook after every update (fault injection) that also records the
-// batch sizes and the dF it was given.
-class HookedProvider : public ConstitutiveProvider {
- public:
-  using Hook =
-      std::function<void(std::int64_t, const std::vector<Mat3>&, std::vector<PointResponse>&)>;
-  HookedProvider(const ConstitutiveParams& params, Hook hook)
-      : inner_(make_linear_elastic(params)), hook_(std::move(hook)) {}
-  std::string name() const override { return "hooked"; }
-  void initialise(const std::vector<Mat3>& s0, std::vector<PointResponse>& out) override {
-    inner_->initialise(s0, out);
-  }
-  void update(const std::vector<Mat3>& dF, double dt, std::int64_t step, double time,
-              std::vector<PointResponse>& out) override {
-    inner_->update(dF, dt, step, time, out);
-    hook_(step, dF, out);
-  }
-
- private:
-  std::unique_ptr<ConstitutiveProvider> inner_;
-  Hook hook_;
-};
-
-}  // namespace
-
+// The scenes: test_fixture::SceneBuilder's defaults (E = 1e7 Pa, nu = 0.3, 2000 kg/m^3 blocks,
+// gravity 9.81 m/s^2 along -z) in the domain and cells each test gives.
 TEST(ParticleInit, RegionsFilledOnTheCellLattice) {
-  Scene s = box(0.1, Vec3(1.0, 0.5, 0.5));
-  s.regions.push_back(region("a", Vec3(0, 0, 0), Vec3(0.4, 0.2, 0.3), 2));
-  // Overlaps "a" on x in [0.3, 0.4]: those points stay with "a".
-  s.regions.push_back(region("b", Vec3(0.3, 0, 0), Vec3(0.6, 0.1, 0.1), 3));
-  s.regions[1].density = 1000.0;
-  s.regions[1].sine_velocity = true;
-  s.regions[1].sine_axis = 0;
-  s.regions[1].sine_amplitude = 0.5;
-  const Particles p = generate_particles(s);
+  const Particles p = SceneBuilder()
+                          .cell(0.1)
+                          .domain(Vec3(1.0, 0.5, 0.5))
+                          .block("a", Vec3(0, 0, 0), Vec3(0.4, 0.2, 0.3))
+                          .points(2)
+                          // Overlaps "a" on x in [0.3, 0.4]: those points stay with "a".
+                          .block("b", Vec3(0.3, 0, 0), Vec3(0.6, 0.1, 0.1))
+                          .points(3)
+                          .density(1000.0)
+                          .sine_velocity(0, 0.5)
+                          .particles();
   const std::size_t n_a = 4 * 2 * 3 * 8, n_b = 2 * 1 * 1 * 27;
   ASSERT_EQ(p.size(), n_a + n_b);
   for (std::size_t q = 0; q < p.size(); ++q) {
@@ -100,11 +62,13 @@ TEST(ParticleInit, RegionsFilledOnTheCellLattice) {
 }
 
 TEST(ParticleInit, EmptyRegionIsASceneError) {
-  Scene s = box(0.1, Vec3(1, 1, 1));
-  s.regions.push_back(region("ok", Vec3(0, 0, 0), Vec3(0.5, 0.5, 0.5)));
-  s.regions.push_back(region("sliver", Vec3(0.5, 0.5, 0.5), Vec3(0.51, 0.51, 0.51)));
+  const SceneBuilder b = SceneBuilder()
+                             .cell(0.1)
+                             .domain(Vec3(1, 1, 1))
+                             .block("ok", Vec3(0, 0, 0), Vec3(0.5, 0.5, 0.5))
+                             .block("sliver", Vec3(0.5, 0.5, 0.5), Vec3(0.51, 0.51, 0.51));
   try {
-    generate_particles(s);
+    b.particles();
     FAIL() << "no SceneError";
   } catch (const SceneError& e) {
     EXPECT_NE(std::string(e.what()).find("'sliver'"), std::string::npos) << e.what();
@@ -113,13 +77,14 @@ TEST(ParticleInit, EmptyRegionIsASceneError) {
 }
 
 TEST(ParticleInit, GeostaticInitialStress) {
-  Scene s = box(0.1, Vec3(1, 1, 2));
-  s.regions.push_back(region("soil", Vec3(0, 0, 0), Vec3(1, 1, 1.2)));
-  s.regions.push_back(region("block", Vec3(0, 0, 1.2), Vec3(1, 1, 1.6)));
-  s.regions[0].geostatic = true;
-  s.regions[0].k0 = 0.5;
-  const Particles p = generate_particles(s);
-  const std::vector<Mat3> sigma = initial_stresses(s, p);
+  SceneBuilder b = SceneBuilder()
+                       .cell(0.1)
+                       .domain(Vec3(1, 1, 2))
+                       .block("soil", Vec3(0, 0, 0), Vec3(1, 1, 1.2))
+                       .geostatic(0.5)
+                       .block("block", Vec3(0, 0, 1.2), Vec3(1, 1, 1.6));
+  const Particles p = b.particles();
+  const std::vector<Mat3> sigma = initial_stresses(b.build(), p);
   for (std::size_t q = 0; q < p.size(); ++q) {
     if (p.region[q] == 1) {
       EXPECT_EQ(sigma[q], Mat3::Zero());
@@ -132,8 +97,7 @@ TEST(ParticleInit, GeostaticInitialStress) {
     EXPECT_NEAR(sigma[q](0, 2), 0.0, 1e-12);
   }
   // Gravity along -x: depth is measured from the region's x_max face.
-  s.solver.gravity = Vec3(-9.81, 0, 0);
-  const std::vector<Mat3> sx = initial_stresses(s, p);
+  const std::vector<Mat3> sx = initial_stresses(b.gravity(Vec3(-9.81, 0, 0)).build(), p);
   for (std::size_t q = 0; q < p.size(); ++q) {
     if (p.region[q] != 0) continue;
     EXPECT_NEAR(sx[q](0, 0), -2000.0 * 9.81 * (1.0 - p.x[q].x()), 1e-9);
@@ -142,13 +106,14 @@ TEST(ParticleInit, GeostaticInitialStress) {
 }
 
 TEST(Solver, FirstTimeStepEnergiesAndEnd) {
-  Scene s = box(0.05, Vec3(0.2, 0.2, 0.4));
-  s.regions.push_back(region("r", Vec3(0, 0, 0), Vec3(0.2, 0.2, 0.2)));
-  s.regions[0].geostatic = true;
-  s.regions[0].velocity = Vec3(0.1, 0, 0);
-  s.solver.cfl = 0.3;
-  s.solver.end_time = 0.01;
-  Solver solver(s, generate_particles(s), make_linear_elastic(s.constitutive));
+  SceneBuilder b = SceneBuilder()
+                       .domain(Vec3(0.2, 0.2, 0.4))
+                       .block("r", Vec3(0, 0, 0), Vec3(0.2, 0.2, 0.2))
+                       .geostatic(1.0)
+                       .velocity(Vec3(0.1, 0, 0))
+                       .cfl(0.3)
+                       .end_time(0.01);
+  Solver solver = b.solver();
   const mpmdem::elastic::ElasticLaw law{1e7, 0.3};
   const double c = std::sqrt(law.constrained_modulus() / 2000.0);
   EXPECT_NEAR(solver.dt(), 0.3 * 0.05 / (c + 0.1), 1e-15);
@@ -167,8 +132,7 @@ TEST(Solver, FirstTimeStepEnergiesAndEnd) {
   EXPECT_GT(E_s, 0.0);
   EXPECT_EQ(solver.initial_potential_energy(), e.E_p);
   // A dt cap applies.
-  s.solver.dt_max = 1e-5;
-  Solver capped(s, generate_particles(s), make_linear_elastic(s.constitutive));
+  Solver capped = b.dt_max(1e-5).solver();
   EXPECT_EQ(capped.dt(), 1e-5);
   while (!capped.finished()) capped.step();
   EXPECT_GE(capped.time(), 0.01 * (1 - 1e-12));
@@ -179,25 +143,26 @@ TEST(Solver, FirstTimeStepEnergiesAndEnd) {
 namespace {
 
 // A block at rest and one point flying out through the free x_max face at 20 m/s.
-Scene leaving_scene(OnExit on_exit) {
-  Scene s = box(0.05, Vec3(0.4, 0.1, 0.1));
-  s.solver.gravity = Vec3::Zero();
-  s.solver.on_exit = on_exit;
-  s.regions.push_back(region("block", Vec3(0, 0, 0), Vec3(0.1, 0.1, 0.1)));
-  s.regions.push_back(region("bullet", Vec3(0.35, 0.05, 0.05), Vec3(0.4, 0.1, 0.1), 1));
-  s.regions[1].velocity = Vec3(20.0, 0, 0);
-  s.regions[1].density = 1.0;  // too light to disturb its cell much
-  return s;
+SceneBuilder leaving_scene(OnExit on_exit) {
+  return SceneBuilder()
+      .domain(Vec3(0.4, 0.1, 0.1))
+      .no_gravity()
+      .on_exit(on_exit)
+      .block("block", Vec3(0, 0, 0), Vec3(0.1, 0.1, 0.1))
+      .block("bullet", Vec3(0.35, 0.05, 0.05), Vec3(0.4, 0.1, 0.1))
+      .points(1)
+      .velocity(Vec3(20.0, 0, 0))
+      .density(1.0);  // too light to disturb its cell much
 }
 
 }  // namespace
 
 TEST(Solver, PointLeavingTheGridIsAnErrorNamingThePointAndStep) {
-  const Scene s = leaving_scene(OnExit::kError);
-  const Particles p = generate_particles(s);
+  const SceneBuilder b = leaving_scene(OnExit::kError);
+  const Particles p = b.particles();
   const std::int64_t bullet = p.id.back();
   ASSERT_EQ(p.region.back(), 1);
-  Solver solver(s, p, make_linear_elastic(s.constitutive));
+  Solver solver = b.solver(p);
   try {
     for (int n = 0; n < 200; ++n) solver.step();
     FAIL() << "no SimulationError";
@@ -213,17 +178,19 @@ TEST(Solver, PointLeavingTheGridIsAnErrorNamingThePointAndStep) {
 }
 
 TEST(Solver, PointLeavingTheGridIsRemovedAndTheProviderKeepsItsBatch) {
-  const Scene s = leaving_scene(OnExit::kRemove);
-  const Particles p = generate_particles(s);
+  const SceneBuilder b = leaving_scene(OnExit::kRemove);
+  const Particles p = b.particles();
   const std::size_t n = p.size();
   const std::int64_t bullet = p.id.back();
   std::vector<std::size_t> batch_sizes;
   Mat3 last_bullet_dF = Mat3::Zero();
-  auto hook = [&](std::int64_t, const std::vector<Mat3>& dF, std::vector<PointResponse>&) {
+  auto hook = [&](const Update& u, std::vector<PointResponse>&) {
+    const std::vector<Mat3>& dF = u.dF;
     batch_sizes.push_back(dF.size());
     last_bullet_dF = dF.back();
   };
-  Solver solver(s, p, std::make_unique<HookedProvider>(s.constitutive, hook));
+  Solver solver = b.solver(
+      p, std::make_unique<HookedProvider>(make_linear_elastic(b.build().constitutive), hook));
   const double E_p0 = solver.initial_potential_energy();
   (void)E_p0;
   std::vector<std::string> events;
@@ -237,7 +204,7 @@ TEST(Solver, PointLeavingTheGridIsRemovedAndTheProviderKeepsItsBatch) {
       << events[0];
   EXPECT_EQ(solver.particles().size(), n - 1);
   for (std::int64_t id : solver.particles().id) EXPECT_NE(id, bullet);
-  for (std::size_t b : batch_sizes) EXPECT_EQ(b, n);
+  for (std::size_t size : batch_sizes) EXPECT_EQ(size, n);
   EXPECT_EQ(last_bullet_dF, Mat3::Identity());
   // The remaining points are all still there with their mass.
   double m = 0.0;
@@ -248,15 +215,13 @@ TEST(Solver, PointLeavingTheGridIsRemovedAndTheProviderKeepsItsBatch) {
 }
 
 TEST(Solver, NonFiniteStressStopsTheRunNamingThePoint) {
-  Scene s = box(0.05, Vec3(0.2, 0.2, 0.2));
-  s.regions.push_back(region("r", Vec3(0, 0, 0), Vec3(0.1, 0.1, 0.1)));
-  s.walls[4].type = WallType::kFixed;
-  auto nan_at_step_2 = [](std::int64_t step, const std::vector<Mat3>&,
-                          std::vector<PointResponse>& out) {
-    if (step == 2) out[5].stress(1, 2) = std::nan("");
+  // The builder's default scene: a 0.1 m block in a 0.2 m box, here on a fixed base.
+  const SceneBuilder b = SceneBuilder().base(WallType::kFixed);
+  auto nan_at_step_2 = [](const Update& u, std::vector<PointResponse>& out) {
+    if (u.step == 2) out[5].stress(1, 2) = std::nan("");
   };
-  Solver solver(s, generate_particles(s),
-                std::make_unique<HookedProvider>(s.constitutive, nan_at_step_2));
+  Solver solver = b.solver(
+      std::make_unique<HookedProvider>(make_linear_elastic(b.build().constitutive), nan_at_step_2));
   solver.step();
   try {
     solver.step();
@@ -282,14 +247,13 @@ TEST(Solver, FatalRveStatusStopsTheRun) {
   for (const Case& c :
        {Case{exploding, 3, "status 3"}, Case{42, 5, "status 42 (unknown status 42)"}}) {
     SCOPED_TRACE(c.says);
-    Scene s = box(0.05, Vec3(0.2, 0.2, 0.2));
-    s.regions.push_back(region("r", Vec3(0, 0, 0), Vec3(0.1, 0.1, 0.1)));
-    auto fault = [c](std::int64_t, const std::vector<Mat3>&, std::vector<PointResponse>& out) {
+    const SceneBuilder b;  // the default scene: a 0.1 m block in a 0.2 m box
+    auto fault = [c](const Update&, std::vector<PointResponse>& out) {
       read_rve_status(static_cast<std::int32_t>(mpmdem::protocol::RveStatus::kNoContacts), out[7]);
       read_rve_status(c.status, out[c.point]);
     };
-    Solver solver(s, generate_particles(s),
-                  std::make_unique<HookedProvider>(s.constitutive, fault));
+    Solver solver = b.solver(
+        std::make_unique<HookedProvider>(make_linear_elastic(b.build().constitutive), fault));
     try {
       solver.step();
       FAIL() << "no SimulationError";
@@ -312,17 +276,19 @@ struct ColumnErrors {
   double near_base = 0.0, inside = 0.0, settlement = 0.0;
 };
 ColumnErrors elastic_column_errors(ShapeKind shape, bool gauss = false, int ppc = 2) {
-  Scene s = box(0.05, Vec3(0.05, 0.05, 1.1));
-  s.regions.push_back(region("column", Vec3(0, 0, 0), Vec3(0.05, 0.05, 1.0)));
-  s.regions.back().gauss_placement = gauss;
-  s.regions.back().points_per_cell = ppc;
-  for (int f = 0; f < 4; ++f) s.walls[static_cast<std::size_t>(f)].type = WallType::kSlip;
-  s.walls[4].type = WallType::kFixed;
-  s.solver.shape = shape;
-  s.solver.local_damping = 0.15;
-  s.solver.end_time = 1.0;
-  s.verification.kind = VerificationKind::kElasticColumn;
-  Solver solver(s, generate_particles(s), make_linear_elastic(s.constitutive));
+  const SceneBuilder b = SceneBuilder()
+                             .domain(Vec3(0.05, 0.05, 1.1))
+                             .block("column", Vec3(0, 0, 0), Vec3(0.05, 0.05, 1.0))
+                             .gauss_placement(gauss)
+                             .points(ppc)
+                             .side_walls(WallType::kSlip)
+                             .base(WallType::kFixed)
+                             .shape(shape)
+                             .damping(0.15)
+                             .end_time(1.0)
+                             .verification(VerificationKind::kElasticColumn);
+  const Scene s = b.build();
+  Solver solver = b.solver();
   while (!solver.finished()) solver.step();
   const Particles& p = solver.particles();
   ColumnErrors e;
@@ -383,13 +349,15 @@ TEST(Solver, ElasticColumnWithQuadraticBSplines) {
 TEST(ParticleInit, GaussPlacementFillsTheKnotSpans) {
   for (ShapeKind shape : {ShapeKind::kQuadraticBSpline, ShapeKind::kLinear}) {
     for (int n : {1, 2, 3, 5}) {
-      Scene s = box(0.1, Vec3(0.4, 0.4, 0.4));
-      s.solver.shape = shape;
-      s.walls[4].type = WallType::kFixed;
-      s.regions.push_back(region("r", Vec3(0, 0, 0), Vec3(0.4, 0.2, 0.33)));
-      s.regions.back().gauss_placement = true;
-      s.regions.back().points_per_cell = n;
-      const Particles p = generate_particles(s);
+      const Particles p = SceneBuilder()
+                              .cell(0.1)
+                              .domain(Vec3(0.4, 0.4, 0.4))
+                              .shape(shape)
+                              .base(WallType::kFixed)
+                              .block("r", Vec3(0, 0, 0), Vec3(0.4, 0.2, 0.33))
+                              .gauss_placement()
+                              .points(n)
+                              .particles();
       const bool b2 = shape == ShapeKind::kQuadraticBSpline;
       double V = 0.0, zmin = 1.0;
       std::size_t below = 0;  // in the first span at the wall, away from its middle
@@ -415,13 +383,16 @@ TEST(ParticleInit, GaussPlacementFillsTheKnotSpans) {
   }
   // A plane-strain slice (one cell between two walls along y): its B-spline slots are all held,
   // so the cell is one span, n points across, not 2n.
-  Scene s = box(0.1, Vec3(0.4, 0.1, 0.4));
-  s.solver.shape = ShapeKind::kQuadraticBSpline;
-  s.walls[2].type = s.walls[3].type = WallType::kSlip;
-  s.regions.push_back(region("r", Vec3(0, 0, 0), Vec3(0.2, 0.1, 0.2)));
-  s.regions.back().gauss_placement = true;
-  s.regions.back().points_xyz = {{2, 1, 2}};
-  const Particles p = generate_particles(s);
+  const Particles p = SceneBuilder()
+                          .cell(0.1)
+                          .domain(Vec3(0.4, 0.1, 0.4))
+                          .shape(ShapeKind::kQuadraticBSpline)
+                          .wall(Face::kYMin, WallType::kSlip)
+                          .wall(Face::kYMax, WallType::kSlip)
+                          .block("r", Vec3(0, 0, 0), Vec3(0.2, 0.1, 0.2))
+                          .gauss_placement()
+                          .points_xyz({{2, 1, 2}})
+                          .particles();
   EXPECT_EQ(p.size(), 6u * 1u * 6u);  // 3 spans along x and z (0.05, 0.15 cut), 1 across
   for (std::size_t q = 0; q < p.size(); ++q) EXPECT_DOUBLE_EQ(p.x[q].y(), 0.05);
 }

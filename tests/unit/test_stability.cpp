@@ -17,16 +17,20 @@
 #include <string>
 #include <vector>
 
-#include "config/scene_loader.hpp"
 #include "constitutive/linear_elastic.hpp"
+#include "hooked_provider.hpp"
 #include "mpmdem/protocol.hpp"
-#include "particle_init.hpp"
 #include "run_driver.hpp"
+#include "scene_builder.hpp"
 #include "state_guard.hpp"
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
 using namespace mpmdem::mpm;
+using test_fixture::HookedProvider;
+using test_fixture::quiet_options;
+using test_fixture::SceneBuilder;
+using test_fixture::Update;
 using test_support::read_file;
 using test_support::TempDir;
 
@@ -34,23 +38,14 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-Scene column(double end_time, double damping) {
-  Scene s = load_scene(std::string(MPMDEM_SOURCE_DIR) + "/configs/elastic_column.yaml");
-  s.solver.end_time = end_time;
-  s.solver.local_damping = damping;
-  s.output.energy_interval = 0.0;  // every step
-  s.verification.kind = VerificationKind::kNone;
-  return s;
-}
-
-RunOptions quiet(const std::string& dir, std::ostream& log) {
-  RunOptions o;
-  o.out_dir = dir;
-  o.threads = 1;
-  o.handle_signals = false;
-  o.out = &log;
-  o.err = &log;
-  return o;
+// The elastic column (configs/elastic_column.yaml) without its verification, an energy row
+// every step.
+SceneBuilder column(double end_time, double damping) {
+  return SceneBuilder::config("configs/elastic_column.yaml")
+      .end_time(end_time)
+      .damping(damping)
+      .verification(VerificationKind::kNone)
+      .with([](Scene& s) { s.output.energy_interval = 0.0; });
 }
 
 // Non-finite values in a .vtu with raw appended Float64 arrays (vtk_writer.cpp's layout).
@@ -99,28 +94,6 @@ std::size_t expect_no_non_finite(const std::string& dir) {
   return files;
 }
 
-// Linear elastic, with a hook on the responses of every update (fault injection).
-class HookedProvider : public ConstitutiveProvider {
- public:
-  using Hook = std::function<void(std::int64_t, std::vector<PointResponse>&)>;
-  HookedProvider(std::unique_ptr<ConstitutiveProvider> inner, Hook hook)
-      : inner_(std::move(inner)), hook_(std::move(hook)) {}
-  std::string name() const override { return "hooked_" + inner_->name(); }
-  void initialise(const std::vector<Mat3>& s0, std::vector<PointResponse>& out) override {
-    inner_->initialise(s0, out);
-  }
-  void update(const std::vector<Mat3>& dF, double dt, std::int64_t step, double time,
-              std::vector<PointResponse>& out) override {
-    inner_->update(dF, dt, step, time, out);
-    hook_(++calls_, out);
-  }
-
- private:
-  std::unique_ptr<ConstitutiveProvider> inner_;
-  Hook hook_;
-  std::int64_t calls_ = 0;
-};
-
 double column_value(const std::string& csv_line, std::size_t col) {
   std::stringstream ss(csv_line);
   std::string cell;
@@ -132,7 +105,7 @@ double column_value(const std::string& csv_line, std::size_t col) {
 }  // namespace
 
 TEST(StateGuard, NamesTheFirstPointAndTheField) {
-  Particles p = generate_particles(column(0.1, 0.0));
+  Particles p = column(0.1, 0.0).particles();
   p.porosity.assign(p.size(), 0.4);
   NonFinite where;
   EXPECT_FALSE(find_first_non_finite(p, where));
@@ -158,19 +131,22 @@ TEST(StateGuard, NamesTheFirstPointAndTheField) {
 // A NaN the provider returns in an RVE output (porosity: no other check looks at it) stops
 // the run at that step, naming the point; nothing non-finite is written anywhere.
 TEST(StateGuard, InjectedNaNStopsTheRunBeforeAnyOutputHoldsIt) {
-  Scene scene = column(0.05, 0.0);
-  scene.constitutive.model = kRemoteModel;  // the points carry RVE outputs
-  scene.coupling.outputs = mpmdem::protocol::kOutputPorosity;
-  scene.output.interval = 1e-4;  // a frame about every step up to the fault
-  scene.output.checkpoint_interval_steps = 2;
+  const Scene scene = column(0.05, 0.0)
+                          .model(kRemoteModel)  // the points carry RVE outputs
+                          .with([](Scene& s) {
+                            s.coupling.outputs = mpmdem::protocol::kOutputPorosity;
+                            s.output.interval = 1e-4;  // a frame about every step up to the fault
+                            s.output.checkpoint_interval_steps = 2;
+                          })
+                          .build();
   TempDir dir("nan");
   std::ostringstream log;
-  RunOptions o = quiet(dir.str(), log);
+  RunOptions o = quiet_options(dir.str(), log);
   o.provider_factory = [](const Scene& s, std::size_t) -> std::unique_ptr<ConstitutiveProvider> {
     return std::make_unique<HookedProvider>(make_linear_elastic(s.constitutive),
-                                            [](std::int64_t call, auto& out) {
+                                            [](const Update& u, auto& out) {
                                               for (auto& r : out) r.porosity = 0.4;
-                                              if (call == 7) out[42].porosity = kNaN;
+                                              if (u.call == 7) out[42].porosity = kNaN;
                                             });
   };
   const RunResult r = run_scene(scene, o);
@@ -193,12 +169,12 @@ TEST(StateGuard, InjectedNaNStopsTheRunBeforeAnyOutputHoldsIt) {
 // A forced time step 3x the CFL limit: the run blows up and is stopped with the point and the
 // step, status failed, exit code 4, and no NaN in the files.
 TEST(StateGuard, ForcedTimeStepAboveTheCflLimitIsDetected) {
-  Scene scene = column(0.5, 0.0);
-  const double c = 82.04, h = scene.grid.cell_size;  // P-wave speed of the column (its comment)
-  scene.solver.dt_fixed = 3.0 * h / c;
+  SceneBuilder b = column(0.5, 0.0);
+  const double c = 82.04, h = b.build().grid.cell_size;  // P-wave speed of the column (its comment)
+  const Scene scene = b.dt_fixed(3.0 * h / c).build();
   TempDir dir("dt");
   std::ostringstream log;
-  const RunResult r = run_scene(scene, quiet(dir.str(), log));
+  const RunResult r = run_scene(scene, quiet_options(dir.str(), log));
   EXPECT_EQ(r.exit_code, 4) << log.str();
   EXPECT_EQ(r.summary.status, "failed");
   EXPECT_NE(log.str().find("exceeds the CFL limit"), std::string::npos) << log.str();
@@ -214,10 +190,10 @@ TEST(StateGuard, ForcedTimeStepAboveTheCflLimitIsDetected) {
 // released, undamped (W_damp = 0) and damped (W_damp carries what the damping removed).
 TEST(EnergyBudget, ClosesTheBalanceOfTheElasticColumn) {
   for (double damping : {0.0, 0.8}) {
-    const Scene scene = column(0.1, damping);
+    const Scene scene = column(0.1, damping).build();
     TempDir dir("budget");
     std::ostringstream log;
-    const RunResult r = run_scene(scene, quiet(dir.str(), log));
+    const RunResult r = run_scene(scene, quiet_options(dir.str(), log));
     ASSERT_EQ(r.exit_code, 0) << log.str();
     std::ifstream in(dir.str() + "/energies.csv");
     std::string line;

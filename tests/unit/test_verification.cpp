@@ -17,41 +17,31 @@
 #include <sstream>
 #include <string>
 
-#include "config/scene_loader.hpp"
 #include "constitutive/linear_elastic.hpp"
+#include "hooked_provider.hpp"
 #include "particle_init.hpp"
 #include "run_driver.hpp"
+#include "scene_builder.hpp"
 #include "test_support.hpp"
 #include "verification/bar_vibration.hpp"
 #include "verification/elastic_column.hpp"
 
 namespace fs = std::filesystem;
 using namespace mpmdem::mpm;
+using test_fixture::HookedProvider;
+using test_fixture::quiet_options;
+using test_fixture::SceneBuilder;
+using test_fixture::Update;
 using test_support::read_file;
 using test_support::TempDir;
 
 namespace {
-
-std::string source(const std::string& rel) {
-  return std::string(MPMDEM_SOURCE_DIR) + "/" + rel;
-}
 
 double figure(const RunSummary& s, const std::string& key) {
   for (const auto& [k, v] : s.verification)
     if (k == key) return v;
   ADD_FAILURE() << "summary has no " << key;
   return std::numeric_limits<double>::quiet_NaN();
-}
-
-RunOptions quiet(const std::string& dir, std::ostream& log, Particles* final_state = nullptr) {
-  RunOptions o;
-  o.out_dir = dir;
-  o.threads = 1;  // the runs are small: threads would only add barrier waits on a busy machine
-  o.handle_signals = false;
-  o.out = &log;
-  o.err = &log;
-  o.final_particles = final_state;
-  return o;
 }
 
 // The column's exact static state (1D strain) for a given scene, built on its particles.
@@ -70,32 +60,10 @@ Particles exact_column(const Scene& scene) {
   return p;
 }
 
-// Linear elastic, with a hook called before every update (fault injection).
-class HookedProvider : public ConstitutiveProvider {
- public:
-  HookedProvider(std::unique_ptr<ConstitutiveProvider> inner,
-                 std::function<void(std::int64_t, std::vector<PointResponse>&)> hook)
-      : inner_(std::move(inner)), hook_(std::move(hook)) {}
-  std::string name() const override { return "hooked_" + inner_->name(); }
-  void initialise(const std::vector<Mat3>& s0, std::vector<PointResponse>& out) override {
-    inner_->initialise(s0, out);
-  }
-  void update(const std::vector<Mat3>& dF, double dt, std::int64_t step, double time,
-              std::vector<PointResponse>& out) override {
-    inner_->update(dF, dt, step, time, out);
-    hook_(++calls_, out);
-  }
-
- private:
-  std::unique_ptr<ConstitutiveProvider> inner_;
-  std::function<void(std::int64_t, std::vector<PointResponse>&)> hook_;
-  std::int64_t calls_ = 0;
-};
-
 }  // namespace
 
 TEST(ElasticColumnVerifier, ExactStateHasNoErrorAndKnownPerturbationsAreMeasured) {
-  const Scene scene = load_scene(source("configs/elastic_column.yaml"));
+  const Scene scene = SceneBuilder::config("configs/elastic_column.yaml").build();
   Particles p = exact_column(scene);
   ElasticColumnResult r = verify_elastic_column(scene, p);
   EXPECT_LT(r.stress_rel_error, 1e-12);
@@ -138,11 +106,11 @@ TEST(BarVibrationVerifier, SmallExcursionsAcrossZeroAreNotCrossings) {
 }
 
 TEST(Verification, ElasticColumnMatchesTheStaticSolutionAndConservesMass) {
-  const Scene scene = load_scene(source("configs/elastic_column.yaml"));
+  const Scene scene = SceneBuilder::config("configs/elastic_column.yaml").build();
   TempDir dir("column");
   std::ostringstream log;
   Particles final_state;
-  const RunResult r = run_scene(scene, quiet(dir.str(), log, &final_state));
+  const RunResult r = run_scene(scene, quiet_options(dir.str(), log, &final_state));
   ASSERT_EQ(r.exit_code, 0) << log.str();
   const double stress = figure(r.summary, "stress_rel_error");
   const double settlement = figure(r.summary, "settlement_rel_error");
@@ -165,10 +133,10 @@ TEST(Verification, ElasticColumnMatchesTheStaticSolutionAndConservesMass) {
 }
 
 TEST(Verification, BarVibratesWithThePeriodOfItsFirstMode) {
-  const Scene scene = load_scene(source("configs/elastic_bar_vibration.yaml"));
+  const Scene scene = SceneBuilder::config("configs/elastic_bar_vibration.yaml").build();
   TempDir dir("bar");
   std::ostringstream log;
-  const RunResult r = run_scene(scene, quiet(dir.str(), log));
+  const RunResult r = run_scene(scene, quiet_options(dir.str(), log));
   ASSERT_EQ(r.exit_code, 0) << log.str();
   const double period = figure(r.summary, "period_s");
   const double expected = figure(r.summary, "period_expected_s");
@@ -184,15 +152,14 @@ TEST(Verification, BarVibratesWithThePeriodOfItsFirstMode) {
 }
 
 TEST(Verification, NonFiniteStressFailsTheRunAndMarksTheResults) {
-  Scene scene = load_scene(source("configs/elastic_column.yaml"));
-  scene.solver.end_time = 0.05;
+  const Scene scene = SceneBuilder::config("configs/elastic_column.yaml").end_time(0.05).build();
   TempDir dir("fault");
   std::ostringstream log;
-  RunOptions o = quiet(dir.str(), log);
+  RunOptions o = quiet_options(dir.str(), log);
   o.provider_factory = [](const Scene& s, std::size_t) -> std::unique_ptr<ConstitutiveProvider> {
     return std::make_unique<HookedProvider>(
-        make_linear_elastic(s.constitutive), [](std::int64_t call, auto& out) {
-          if (call == 5) out[7].stress(2, 2) = std::numeric_limits<double>::quiet_NaN();
+        make_linear_elastic(s.constitutive), [](const Update& u, auto& out) {
+          if (u.call == 5) out[7].stress(2, 2) = std::numeric_limits<double>::quiet_NaN();
         });
   };
   const RunResult r = run_scene(scene, o);
@@ -213,14 +180,14 @@ TEST(Verification, NonFiniteStressFailsTheRunAndMarksTheResults) {
 }
 
 TEST(Verification, StopRequestEndsAfterTheCurrentStepWithOutputs) {
-  Scene scene = load_scene(source("configs/elastic_column.yaml"));
+  const Scene scene = SceneBuilder::config("configs/elastic_column.yaml").build();
   TempDir dir("stop");
   std::ostringstream log;
-  RunOptions o = quiet(dir.str(), log);
+  RunOptions o = quiet_options(dir.str(), log);
   o.provider_factory = [](const Scene& s, std::size_t) -> std::unique_ptr<ConstitutiveProvider> {
     return std::make_unique<HookedProvider>(make_linear_elastic(s.constitutive),
-                                            [](std::int64_t call, auto&) {
-                                              if (call == 10) request_stop();
+                                            [](const Update& u, auto&) {
+                                              if (u.call == 10) request_stop();
                                             });
   };
   const RunResult r = run_scene(scene, o);

@@ -14,14 +14,15 @@ snapshots/t_star_*.h5 and final_state.h5; writes into RUN_DIR:
 Stage-2 energies: E_p is measured from the base and E_p0 is its value at the release of the
 stage-1 constraint (summary: Ep0_release_J, stage1_time_s); E_d = E_p0 - E_p - E_k.
 Needs Debian's python3-numpy, python3-h5py, python3-matplotlib. Exit 0 on success, 1 if the
-run has no column_collapse figures, 2 on a missing or unreadable file.
+run has no column_collapse figures, 2 on a missing or unreadable file or a figure missing from
+summary.json (read by mpmdem_tools.summary: the message names the file and the key).
 """
 import csv
 import glob
-import json
 import math
 import os
 import sys
+from pathlib import Path
 
 import h5py
 import matplotlib
@@ -29,6 +30,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))  # scripts/: mpmdem_tools
+from mpmdem_tools.summary import SummaryError, read_summary  # noqa: E402  (the one reader)
 
 # Paper and published laws (shared/notes/validation.md).
 PAPER_ED_OVER_EP0 = 0.549
@@ -73,10 +77,14 @@ def side_view(ax, f, s, vmax, title, L_i):
 
 def main(run_dir):
     try:
-        s = json.load(open(os.path.join(run_dir, "summary.json")))
-    except (OSError, ValueError) as e:
-        print(f"column_report: cannot read {run_dir}/summary.json: {e}", file=sys.stderr)
+        return report(run_dir)
+    except SummaryError as e:  # no or unreadable summary.json, or a figure missing from it
+        print(f"column_report: {e}", file=sys.stderr)
         return 2
+
+
+def report(run_dir):
+    s = read_summary(os.path.join(run_dir, "summary.json"))
     if "t_star_s" not in s:
         print(f"column_report: {run_dir}/summary.json has no column_collapse figures "
               "(the scene has no column_collapse: section)", file=sys.stderr)

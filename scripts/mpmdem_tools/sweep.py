@@ -12,7 +12,8 @@ A variant is its base scene with overrides applied (a loaded YAML document: buil
 `derived(base, {...})` or a study's own function of the base); each runs with
 scripts/lib/column_study.run_column (mpm_app on one thread; summary.json read through
 mpmdem_tools.summary, plus the energy budget's shares), or the spec's own `run`.
-Variants may be a generator: a later variant can depend on earlier rows.
+Variants may be a generator: a later variant can depend on earlier rows. The CSV is written
+row by row as the runs end: a study stopped by a failed run keeps the rows before it.
 """
 from __future__ import annotations
 
@@ -42,6 +43,7 @@ class StudySpec:
     run: Callable | None = None        # run(app, scene, out, name, study) -> summary dict
     runs_dir: str = "runs"             # where the runs go, under the study's folder ("": in it)
     csv_name: str | None = "study.csv"
+    csv_lineterminator: str = "\r\n"  # the csv module's; "\n" where a study's CSV always had it
     table_name: str | None = "table.md"
     progress: bool = True              # "  NAME: N steps, T s" on stderr after each run
     on_run: Callable | None = None     # on_run(variant, summary, row), after each run
@@ -62,11 +64,28 @@ def derived(base: dict, overrides: dict) -> dict:
     return doc
 
 
-def write_csv(path: str, rows: list) -> None:
-    with open(path, "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+class CsvRows:
+    """OUT/<csv_name>, opened at the first row (its keys are the header) and flushed at each:
+    the rows of the runs done so far are on disk whatever ends the study."""
+
+    def __init__(self, path: str | None, lineterminator: str):
+        self.path, self.lineterminator = path, lineterminator
+        self.fh = self.writer = None
+
+    def add(self, row: dict) -> None:
+        if not self.path:
+            return
+        if self.writer is None:
+            self.fh = open(self.path, "w", newline="")
+            self.writer = csv.DictWriter(self.fh, fieldnames=list(row),
+                                         lineterminator=self.lineterminator)
+            self.writer.writeheader()
+        self.writer.writerow(row)
+        self.fh.flush()
+
+    def close(self) -> None:
+        if self.fh:
+            self.fh.close()
 
 
 def sweep(spec: StudySpec, app: str, out: str) -> list:
@@ -80,17 +99,20 @@ def sweep(spec: StudySpec, app: str, out: str) -> list:
         run = spec.run
     where = os.path.join(out, spec.runs_dir) if spec.runs_dir else out
     rows = []
-    for v in spec.variants:
-        s = run(app, v.scene, where, v.name, spec.name)
-        row = spec.metrics(v, s)
-        if row is not None:
-            rows.append(row)
-        if spec.progress:
-            print(f"  {v.name}: {s['steps']} steps, {s['run_s']:.1f} s", file=sys.stderr)
-        if spec.on_run:
-            spec.on_run(v, s, row)
-    if spec.csv_name and rows:
-        write_csv(os.path.join(out, spec.csv_name), rows)
+    table = CsvRows(spec.csv_name and os.path.join(out, spec.csv_name), spec.csv_lineterminator)
+    try:
+        for v in spec.variants:
+            s = run(app, v.scene, where, v.name, spec.name)
+            row = spec.metrics(v, s)
+            if row is not None:
+                rows.append(row)
+                table.add(row)
+            if spec.progress:
+                print(f"  {v.name}: {s['steps']} steps, {s['run_s']:.1f} s", file=sys.stderr)
+            if spec.on_run:
+                spec.on_run(v, s, row)
+    finally:
+        table.close()
     if spec.report:
         text = spec.report(rows)
         if spec.table_name:

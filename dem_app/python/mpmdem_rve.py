@@ -79,6 +79,11 @@ class RveSet:
             pk.build_into_current_scene(q)
         else:
             O.load(os.path.join(self.p["packing_dir"], name + ".yade.bz2"))
+        # coupling.yade.time_step_scale: the DEM step below the packing's 0.5 PWaveTimeStep
+        # (1, the default, leaves it as it is).
+        scale = self.p.get("time_step_scale", 1.0)
+        if scale != 1.0:
+            O.dt = O.dt * scale
         if self._law() == "frict_visco":
             pk.to_frict_visco(y, self.p["beta_n"])
         # Large shear (a column's shear band reaches gamma > 1) flattens the periodic cell

@@ -49,6 +49,14 @@ void add_rve_backend_keys(config::Schema& s, const RveBackendKeys& k) {
             .def("100")
             .ge(2));
   s.add(key(p + "damping", Type::kDouble, "-", k.damping).def("0.2").ge(0).lt(1));
+  s.add(key(p + "time_step_scale", Type::kDouble, "-",
+            "the DEM time step is this times the packing's own (0.5 PWaveTimeStep, YADE's "
+            "safety factor, stored with the packing), for consolidation and every update: "
+            "below 1 to check that a result does not move with the DEM integration (the rate "
+            "rule's substeps grow as 1/time_step_scale)")
+            .def("1")
+            .gt(0)
+            .le(1));
   s.add(key(p + "ke_threshold", Type::kDouble, "-",
             "an RVE explodes when its kinetic energy per volume exceeds this times its initial "
             "mean pressure")

@@ -12,6 +12,7 @@
 
 #include "backend_catalog.hpp"
 #include "backend_factory.hpp"
+#include "backends/native/native_backend.hpp"
 #include "config_test_support.hpp"
 #include "coupling_rules.hpp"
 
@@ -182,6 +183,30 @@ TEST(CouplingRules, ContactLawAndRestitution) {
   EXPECT_CONTAINS(cuda,
                   "coupling.native.contact_law frict_visco is not available with backend "
                   "cuda");
+}
+
+// coupling.<backend>.time_step_scale: the DEM step as a fraction of the packing's, in (0, 1]
+// (a larger step than YADE's 0.5 PWaveTimeStep would not be stable); the native backend
+// reads it.
+TEST(CouplingRules, TimeStepScaleIsAFractionOfThePackingsStep) {
+  for (const std::string b : {"native", "yade"}) {
+    SCOPED_TRACE(b);
+    const std::string head = "  backend: " + b + "\n  " + b + ":\n";
+    EXPECT_EQ(coupling_error(head + "    time_step_scale: 0.5\n"), "");
+    for (const char* bad : {"0", "-0.5", "1.5"}) {
+      const std::string msg =
+          coupling_error(head + "    time_step_scale: " + std::string(bad) + "\n");
+      EXPECT_CONTAINS(msg, "coupling." + b + ".time_step_scale");
+      EXPECT_CONTAINS(msg, bad);
+    }
+  }
+  const Config cfg = Config::from_string(
+      "config_version: 1\ncoupling:\n  backend: native\n  native:\n    time_step_scale: 0.25\n",
+      mpmdem::coupling_schema(), "c.yaml", "coupling");
+  EXPECT_EQ(mpmdem::dem::native_params(cfg).time_step_scale, 0.25);
+  const Config plain = Config::from_string("config_version: 1\ncoupling:\n  backend: native\n",
+                                           mpmdem::coupling_schema(), "c.yaml", "coupling");
+  EXPECT_EQ(mpmdem::dem::native_params(plain).time_step_scale, 1.0);
 }
 
 // The backends by name (backend_catalog.hpp): every row declares its section and its rules,

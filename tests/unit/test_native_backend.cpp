@@ -160,6 +160,33 @@ TEST(NativeBackend, RateRuleStrainsTheRveAtTheMpmRate) {
   EXPECT_EQ(a[0].n_substeps, 2);  // ceil(1.5e4 * 2e-5) = 1, raised to ns_min
 }
 
+// coupling.native.time_step_scale: the RVE steps (and consolidates) with that fraction of its
+// packing's DEM step, so the rate rule takes 1/scale as many substeps for the same update.
+TEST(NativeBackend, TimeStepScaleShortensTheDemStepAndTheRateRuleFollows) {
+  dem::NativeParams p = params();
+  p.substeps.kind = dem::SubstepRule::Kind::kRate;
+  p.substeps.ns_min = 3;
+  p.substeps.ns_max = 400;
+  RveReply a[1], b[1];
+  auto whole = make(0, 1, kP0, a, p);
+  p.time_step_scale = 0.5;
+  auto half = make(0, 1, kP0, b, p);
+  ASSERT_EQ(a[0].status, 0);
+  ASSERT_EQ(b[0].status, 0);
+  const double dt_dem = whole->rve(0).state.dt;
+  EXPECT_EQ(half->rve(0).state.dt, 0.5 * dt_dem);
+  RowMajor3 f = RowMajor3::Identity();
+  f(0, 2) = 2e-5;
+  step(*whole, 1, {f}, a, 37.5 * dt_dem);
+  step(*half, 1, {f}, b, 37.5 * dt_dem);
+  EXPECT_EQ(a[0].n_substeps, 38);
+  EXPECT_EQ(b[0].n_substeps, 75);
+  // Both strained at the MPM's rate, to within one DEM step of each.
+  const double rate = 2e-5 / (37.5 * dt_dem);
+  EXPECT_NEAR(whole->rve(0).state.cell.pending_vel_grad()(0, 2), rate, rate / 38);
+  EXPECT_NEAR(half->rve(0).state.cell.pending_vel_grad()(0, 2), rate, rate / 75);
+}
+
 // Held at constant volume under the rate rule, an RVE consolidated to a small unbalanced
 // force stays jammed: 200 updates of dF = I over 100 DEM steps each (20,000 steps of real
 // time, where the proportional rule would run 400) keep its contacts and its pressure within

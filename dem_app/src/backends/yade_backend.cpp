@@ -81,6 +81,7 @@ class YadeBackend final : public RveBackend {
       << ", \"ns_min\": " << cfg.integer("coupling.yade.ns_min")
       << ", \"ns_max\": " << cfg.integer("coupling.yade.ns_max")
       << ", \"damping\": " << cfg.number("coupling.yade.damping")
+      << ", \"time_step_scale\": " << cfg.number("coupling.yade.time_step_scale")
       << ", \"ke_threshold\": " << cfg.number("coupling.yade.ke_threshold")
       << ", \"stiffness\": " << json_string(cfg.string("coupling.yade.stiffness"))
       << ", \"consolidation_tol\": " << cfg.number("coupling.yade.consolidation_tol")

@@ -70,6 +70,7 @@ const NativeBackend::Packing& NativeBackend::packing(const std::string& name) {
     pk.state = native::read_packing(std::filesystem::path(p_.packing_dir) /
                                     (name + native::kPackingExtension));
     pk.state.contacts.sort_by_first();  // YADE's order: the force scatter wants them by sphere
+    pk.state.dt *= p_.time_step_scale;  // part of the hash: its own consolidation
     native::set_contact_law(pk.state, p_.law);  // frict_visco: part of the hash (NAT6 state)
     pk.hash = native::state_hash(pk.state);
     cached = packing_cache_.emplace(name, std::move(pk)).first;
@@ -85,6 +86,7 @@ native::RveState NativeBackend::cloud(std::uint64_t point) const {
   c.material.friction_angle = std::atan(dem::laws::table1::kFriction);
   c.seed = static_cast<std::uint64_t>(p_.seed) + point;
   native::RveState s = native::build_cloud(c);
+  s.dt *= p_.time_step_scale;
   native::set_contact_law(s, p_.law);
   return s;
 }
@@ -296,6 +298,7 @@ NativeParams native_params(const config::Config& cfg) {
   p.inline_spheres = static_cast<int>(cfg.integer("coupling.native.inline_spheres"));
   p.substeps = substep_rule(cfg, "native");
   p.damping = cfg.number("coupling.native.damping");
+  p.time_step_scale = cfg.number("coupling.native.time_step_scale");
   p.ke_threshold = cfg.number("coupling.native.ke_threshold");
   p.stiffness = cfg.string("coupling.native.stiffness") == "tangent";
   p.consolidation_tol = cfg.number("coupling.native.consolidation_tol");

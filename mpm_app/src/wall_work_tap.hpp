@@ -52,7 +52,7 @@ class WallWorkTap {
       const Vec3 j = N * (v_i_[i] - v_free_[i]);
       sum.jump += j;
       sum.jump_dx.noalias() += j * dx.transpose();
-    } else {
+    } else {  // every node: the compare would cost more than the add (+0 on most nodes)
       sum.jump += N * (v_i_[i] - v_free_[i]);
     }
   }

@@ -27,7 +27,7 @@
 //   W_transfer_walls  the part of W_transfer at the walls: the work the walls' velocity jumps
 //          dv_i = v_i - v_free,i do on the points, -sum_p m_p sum_i N_ip dv_i . (v_mean +
 //          C_mean (x_i - x_p)) (means over G2P; C only with APIC), less their work on the grid
-//          (W_bc's step); G2P sums it (transfers.hpp, WallWork). Every transfer moves a point by
+//          (W_bc's step); G2P sums it (wall_work_tap.hpp). Every transfer moves a point by
 //          sum_i N_ip dv_i for the walls (v_p^{n+1} - v_p^n = sum_i N_ip (v_i - v0_i) +
 //          (1 - flip) (v_target's own part)), so the split is exact. A point only partly on a
 //          wall node keeps part of its speed, and the points that share the node lose more
@@ -68,7 +68,7 @@ class GridWork {
   void before_bc(const Grid& grid) { v_free_ = grid.v_i; }
   void after_bc(const Grid& grid, double dt, EnergyBudget& budget) const;
   // The node velocities before the walls and constraints (after before_bc()): G2P's
-  // WallWork measures W_transfer_walls from them (transfers.hpp).
+  // wall tap measures W_transfer_walls from them (wall_work_tap.hpp).
   const std::vector<Vec3>& v_free() const { return v_free_; }
 
  private:

@@ -12,20 +12,16 @@ namespace mpmdem::mpm {
 struct ApicRule {
   static constexpr bool kAffine = true;
 
-  template <int W>
+  template <int W, class AtNode>
   static void gather(const Grid& grid, const Stencil<W>& s, Particles& p, std::size_t q,
-                     const Vec3* v_free, G2PGather& g) {
+                     G2PGather& g, AtNode&& at_node) {
     Mat3 C = Mat3::Zero();
     detail::for_each_node_affine(
         grid, s, [&](std::size_t i, double N, const Vec3&, const Vec3& dx, const Vec3& ga) {
           g.v_pic += N * grid.v_i[i];
           g.dv += N * (grid.v_i[i] - grid.v0_i[i]);
           C.noalias() += grid.v_i[i] * ga.transpose();
-          if (v_free && grid.v_i[i] != v_free[i]) {  // most nodes: no wall acted
-            const Vec3 j = N * (grid.v_i[i] - v_free[i]);
-            g.jump += j;
-            g.jump_dx.noalias() += j * dx.transpose();
-          }
+          at_node(i, N, dx);
         });
     g.v_target = g.v_pic;
     // A point without contacts (a disconnected Drucker-Prager point, an RVE that lost all

@@ -10,14 +10,15 @@ namespace mpmdem::mpm {
 struct PicFlipRule {
   static constexpr bool kAffine = false;
 
-  template <int W>
-  static void gather(const Grid& grid, const Stencil<W>& s, Particles&, std::size_t,
-                     const Vec3* v_free, G2PGather& g) {
-    detail::for_each_node(grid, s, [&](std::size_t i, double N, const Vec3&) {
-      g.v_pic += N * grid.v_i[i];
-      g.dv += N * (grid.v_i[i] - grid.v0_i[i]);
-      if (v_free) g.jump += N * (grid.v_i[i] - v_free[i]);
-    });
+  template <int W, class AtNode>
+  static void gather(const Grid& grid, const Stencil<W>& s, Particles&, std::size_t, G2PGather& g,
+                     AtNode&& at_node) {
+    detail::for_each_node_affine(
+        grid, s, [&](std::size_t i, double N, const Vec3&, const Vec3& dx, const Vec3&) {
+          g.v_pic += N * grid.v_i[i];
+          g.dv += N * (grid.v_i[i] - grid.v0_i[i]);
+          at_node(i, N, dx);
+        });
     g.v_target = g.v_pic;
   }
 };

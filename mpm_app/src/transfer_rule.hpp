@@ -6,11 +6,11 @@
 // A rule is a struct with
 //   static constexpr bool kAffine;  // P2G and the MUSL re-projection carry the point's
 //                                   // affine velocity C_p: mv_i = sum N m_p (v_p + C_p dx)
-//   template <int W> static void gather(const Grid&, const Stencil<W>&, Particles& p,
-//                                       std::size_t q, const Vec3* v_free, G2PGather& g);
+//   template <int W, class AtNode>
+//   static void gather(const Grid&, const Stencil<W>&, Particles& p, std::size_t q,
+//                      G2PGather& g, AtNode&& at_node);
 //     G2P's sums over the point's nodes into g (and, for an affine rule, the point's new
-//     C_p); v_free: the node velocities before the walls, nullptr when the walls' work is not
-//     measured.
+//     C_p); at_node(i, N_ip, x_i - x_p) once per node, for the taps G2P carries (g2p_tap.hpp).
 #pragma once
 
 #include <cstddef>
@@ -24,11 +24,9 @@ namespace mpmdem::mpm {
 // The sums G2P takes over a point's nodes; every rule then blends
 // v_p = flip (v_p + dv) + (1 - flip) v_target and moves the point by dt v_pic.
 struct G2PGather {
-  Vec3 v_pic = Vec3::Zero();    // sum N v_i
-  Vec3 dv = Vec3::Zero();       // sum N (v_i - v0_i): the FLIP increment
-  Vec3 v_target;                // the rule's PIC-side velocity
-  Vec3 jump = Vec3::Zero();     // sum N (v_i - v_free,i): the walls' share of dv
-  Mat3 jump_dx = Mat3::Zero();  // sum N (v_i - v_free,i) (x_i - x_p)^T (affine rules)
+  Vec3 v_pic = Vec3::Zero();  // sum N v_i
+  Vec3 dv = Vec3::Zero();     // sum N (v_i - v0_i): the FLIP increment
+  Vec3 v_target;              // the rule's PIC-side velocity
 };
 
 }  // namespace mpmdem::mpm

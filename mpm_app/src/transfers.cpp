@@ -1,9 +1,11 @@
 #include "transfers.hpp"
+#include "musl_tap.hpp"
 #include "node_loops.hpp"
 #include "parallel.hpp"
 #include "transfer_apic.hpp"
 #include "transfer_pic_flip.hpp"
 #include "transfer_xpic.hpp"
+#include "wall_work_tap.hpp"
 
 #include <omp.h>
 
@@ -13,6 +15,8 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <tuple>
+#include <utility>
 
 namespace mpmdem::mpm {
 
@@ -147,66 +151,73 @@ void grid_update(Grid& grid, const Vec3& gravity, double damping, double dt) {
   }
 }
 
-template <int W, class Rule>
-void g2p_with(Particles& p, const Stencils<W>& s, Grid& grid, double flip, double dt,
-              bool reproject, ScatterBuffers& buf, const WallWork& walls) {
-  const int threads = omp_get_max_threads();
-  if (reproject) buf.resize(grid.size(), threads);
+// Calls fn(tap) for each tap of a tuple, in order.
+template <class Taps, class Fn>
+inline void each_tap(Taps& taps, Fn&& fn) {
+  std::apply([&](auto&... tap) { (fn(tap), ...); }, taps);
+}
+
+// Calls fn(tap, sums) for each tap and its per-point sums, in order.
+template <class Taps, class Sums, class Fn, std::size_t... k>
+inline void each_tap(Taps& taps, Sums& sums, Fn&& fn, std::index_sequence<k...>) {
+  (fn(std::get<k>(taps), std::get<k>(sums)), ...);
+}
+template <class Taps, class Sums, class Fn>
+inline void each_tap(Taps& taps, Sums& sums, Fn&& fn) {
+  each_tap(taps, sums, fn, std::make_index_sequence<std::tuple_size_v<Taps>>{});
+}
+
+// One thread's share of G2P's pass, with its own copies of the taps (g2p_tap.hpp).
+template <int W, class Rule, class... Taps>
+void g2p_points(Particles& p, const Stencils<W>& s, const Grid& grid, double flip, double dt,
+                const Taps&... shared) {
+  std::tuple<Taps...> taps{shared...};
+  each_tap(taps, [](auto& tap) { tap.start_thread(); });
   const auto n = static_cast<std::ptrdiff_t>(p.size());
-  const bool track = walls.v_free != nullptr;
-  assert(!track || (walls.work != nullptr && walls.v_free->size() == grid.size()));
-  if (track) walls.work->resize(p.size());
-  const Vec3* v_free = track ? walls.v_free->data() : nullptr;
-  assert(p.state.size() == p.size());
-#pragma omp parallel num_threads(threads) if (n > kParallelMin)
-  {
-    const int t = omp_get_thread_num();
-    const int used = omp_get_num_threads();
-    std::vector<Vec3>& mv_i = t == 0 ? grid.mv_i : buf.mv[t - 1];
-    if (reproject) std::fill(mv_i.begin(), mv_i.end(), Vec3::Zero());
-      // Interpolate the new velocity and its increment back to the points; move them.
+  // Interpolate the new velocity and its increment back to the points; move them.
 #pragma omp for schedule(static)
-    for (std::ptrdiff_t q = 0; q < n; ++q) {
-      // Every transfer blends v_p = flip (v_p + sum N (v_i - v0_i)) + (1 - flip) v_target,
-      // flip > 0 only with a FLIP share (solver.flip_time_scale or flip_velocity_scale).
-      G2PGather g;
-      const Vec3 v_old = p.v[q];
-      const Mat3 C_old = track && Rule::kAffine ? p.C[q] : Mat3::Zero().eval();
-      Rule::gather(grid, s[q], p, static_cast<std::size_t>(q), v_free, g);
-      p.v[q] = flip * (p.v[q] + g.dv) + (1.0 - flip) * g.v_target;
-      if (track) {
-        // sum_i N jump_i . C_mean dx_i = (sum_i N jump_i dx_i^T) : C_mean; 0 without APIC.
-        double w = g.jump.dot(0.5 * (v_old + p.v[q]));
-        if constexpr (Rule::kAffine) {
-          w += (g.jump_dx.array() * (0.5 * (C_old + p.C[q])).array()).sum();
-        }
-        (*walls.work)[q] = -p.m[q] * w;
-      }
-      p.x[q] += dt * g.v_pic;
-      if (reproject) {
-        // MUSL: the new point momenta back on the grid (same stencils, same transfer).
-        const Vec3 mv_p = p.m[q] * p.v[q];
-        if constexpr (Rule::kAffine) {
-          const Mat3 mC_p = p.m[q] * p.C[q];
-          for_each_node_affine(
-              grid, s[q], [&](std::size_t i, double N, const Vec3&, const Vec3& dx, const Vec3&) {
-                mv_i[i] += N * (mv_p + mC_p * dx);
-              });
-        } else {
-          for_each_node(grid, s[q],
-                        [&](std::size_t i, double N, const Vec3&) { mv_i[i] += N * mv_p; });
-        }
-      }
-    }
-    if (reproject && used > 1) reduce_into(grid.mv_i, buf.mv, used);
+  for (std::ptrdiff_t q = 0; q < n; ++q) {
+    const auto pq = static_cast<std::size_t>(q);
+    std::tuple<typename Taps::Sums...> sums;  // each tap's over this point's nodes
+    each_tap(taps, sums, [&](auto& tap, auto& sum) { tap.start_point(sum, p, pq); });
+    G2PGather g;
+    Rule::gather(grid, s[q], p, pq, g, [&](std::size_t i, double N, const Vec3& dx) {
+      each_tap(taps, sums, [&](auto& tap, auto& sum) { tap.at_node(sum, i, N, dx); });
+    });
+    // Every transfer blends v_p = flip (v_p + sum N (v_i - v0_i)) + (1 - flip) v_target,
+    // flip > 0 only with a FLIP share (solver.flip_time_scale or flip_velocity_scale).
+    p.v[q] = flip * (p.v[q] + g.dv) + (1.0 - flip) * g.v_target;
+    each_tap(taps, sums, [&](auto& tap, auto& sum) { tap.finish_point(sum, grid, s[q], p, pq); });
+    p.x[q] += dt * g.v_pic;
   }
+  each_tap(taps, [](auto& tap) { tap.finish_thread(); });
+}
+
+template <int W, class Rule, class... Taps>
+void g2p_with(Particles& p, const Stencils<W>& s, Grid& grid, double flip, double dt,
+              const Taps&... taps) {
+  assert(p.state.size() == p.size());
+  const auto n = static_cast<std::ptrdiff_t>(p.size());
+#pragma omp parallel num_threads(omp_get_max_threads()) if (n > kParallelMin)
+  g2p_points<W, Rule>(p, s, grid, flip, dt, taps...);
+}
+
+// The taps G2P carries for the rule, each on or off for the whole call: the walls' work when
+// it is measured, MUSL's re-projection with `reproject`.
+template <class Rule>
+std::tuple<WallWorkTap<Rule::kAffine>, MuslTap<Rule::kAffine>> g2p_taps(
+    Grid& grid, std::size_t points, bool reproject, ScatterBuffers& buf, const WallWork& walls) {
+  return {WallWorkTap<Rule::kAffine>(walls, grid, points),
+          MuslTap<Rule::kAffine>(grid, buf, reproject)};
 }
 
 template <int W>
 void g2p(Particles& p, const Stencils<W>& s, Grid& grid, Transfer transfer, double flip, double dt,
          bool reproject, ScatterBuffers& buf, const WallWork& walls) {
   with_transfer_rule(transfer, [&](auto rule) {
-    g2p_with<W, decltype(rule)>(p, s, grid, flip, dt, reproject, buf, walls);
+    using Rule = decltype(rule);
+    std::apply([&](const auto&... taps) { g2p_with<W, Rule>(p, s, grid, flip, dt, taps...); },
+               g2p_taps<Rule>(grid, p.size(), reproject, buf, walls));
   });
 }
 

@@ -56,8 +56,8 @@ void grid_update(Grid& grid, const Vec3& gravity, double damping, double dt);
 //   XPIC:     v_p = sum N (v*_i + v_i - v0_i)  (grid.vstar_i from xpic_velocity).
 // With `walls` (v_free: the node velocities before the walls and constraints), also writes
 // per point the work their velocity jumps v_i - v_free,i did on it (energy_budget.hpp,
-// W_transfer_walls): -m_p sum_i N_ip (v_i - v_free,i) . (v_mean + C_mean (x_i - x_p)), the
-// means over the point's velocity and (APIC) affine matrix before and after.
+// W_transfer_walls; wall_work_tap.hpp). The walls' work and the re-projection ride on the
+// one pass over the points as taps chosen once per call (g2p_tap.hpp, musl_tap.hpp).
 struct WallWork {
   const std::vector<Vec3>* v_free = nullptr;  // per node
   std::vector<double>* work = nullptr;        // per point, resized by g2p [J]

@@ -79,11 +79,6 @@ class RveSet:
             pk.build_into_current_scene(q)
         else:
             O.load(os.path.join(self.p["packing_dir"], name + ".yade.bz2"))
-        # coupling.yade.time_step_scale: the DEM step below the packing's 0.5 PWaveTimeStep
-        # (1, the default, leaves it as it is).
-        scale = self.p.get("time_step_scale", 1.0)
-        if scale != 1.0:
-            O.dt = O.dt * scale
         if self._law() == "frict_visco":
             pk.to_frict_visco(y, self.p["beta_n"])
         # Large shear (a column's shear band reaches gamma > 1) flattens the periodic cell
@@ -213,6 +208,11 @@ class RveSet:
                 q["max_steps"] = self.p["consolidation_max_steps"]
                 pk.consolidate(y, goal, q)
             pk.finish_preparation(y)
+            # coupling.yade.time_step_scale: the updates' DEM step below the packing's 0.5
+            # PWaveTimeStep (the consolidation above kept it; 1, the default, leaves it).
+            scale = self.p.get("time_step_scale", 1.0)
+            if scale != 1.0:
+                O.dt = O.dt * scale
             self._setup_engines(False)
             self.scenes.append(idx)
             t = O.cell.trsf

@@ -50,8 +50,9 @@ void add_rve_backend_keys(config::Schema& s, const RveBackendKeys& k) {
             .ge(2));
   s.add(key(p + "damping", Type::kDouble, "-", k.damping).def("0.2").ge(0).lt(1));
   s.add(key(p + "time_step_scale", Type::kDouble, "-",
-            "the DEM time step is this times the packing's own (0.5 PWaveTimeStep, YADE's "
-            "safety factor, stored with the packing), for consolidation and every update: "
+            "the DEM time step of every update is this times the packing's own (0.5 "
+            "PWaveTimeStep, YADE's safety factor, stored with the packing; the initial "
+            "consolidation keeps the packing's, so every value starts from the same state): "
             "below 1 to check that a result does not move with the DEM integration (the rate "
             "rule's substeps grow as 1/time_step_scale)")
             .def("1")

@@ -160,8 +160,9 @@ TEST(NativeBackend, RateRuleStrainsTheRveAtTheMpmRate) {
   EXPECT_EQ(a[0].n_substeps, 2);  // ceil(1.5e4 * 2e-5) = 1, raised to ns_min
 }
 
-// coupling.native.time_step_scale: the RVE steps (and consolidates) with that fraction of its
-// packing's DEM step, so the rate rule takes 1/scale as many substeps for the same update.
+// coupling.native.time_step_scale: the RVE's updates step with that fraction of its packing's
+// DEM step, so the rate rule takes 1/scale as many substeps for the same update; the
+// consolidation keeps the packing's step, so both start from the same state, bit for bit.
 TEST(NativeBackend, TimeStepScaleShortensTheDemStepAndTheRateRuleFollows) {
   dem::NativeParams p = params();
   p.substeps.kind = dem::SubstepRule::Kind::kRate;
@@ -175,6 +176,10 @@ TEST(NativeBackend, TimeStepScaleShortensTheDemStepAndTheRateRuleFollows) {
   ASSERT_EQ(b[0].status, 0);
   const double dt_dem = whole->rve(0).state.dt;
   EXPECT_EQ(half->rve(0).state.dt, 0.5 * dt_dem);
+  EXPECT_EQ(std::memcmp(a[0].stress, b[0].stress, sizeof a[0].stress), 0);
+  for (int axis = 0; axis < 3; ++axis) {
+    EXPECT_EQ(whole->rve(0).state.spheres.pos.c[axis], half->rve(0).state.spheres.pos.c[axis]);
+  }
   RowMajor3 f = RowMajor3::Identity();
   f(0, 2) = 2e-5;
   step(*whole, 1, {f}, a, 37.5 * dt_dem);

@@ -70,7 +70,6 @@ const NativeBackend::Packing& NativeBackend::packing(const std::string& name) {
     pk.state = native::read_packing(std::filesystem::path(p_.packing_dir) /
                                     (name + native::kPackingExtension));
     pk.state.contacts.sort_by_first();  // YADE's order: the force scatter wants them by sphere
-    pk.state.dt *= p_.time_step_scale;  // part of the hash: its own consolidation
     native::set_contact_law(pk.state, p_.law);  // frict_visco: part of the hash (NAT6 state)
     pk.hash = native::state_hash(pk.state);
     cached = packing_cache_.emplace(name, std::move(pk)).first;
@@ -86,7 +85,6 @@ native::RveState NativeBackend::cloud(std::uint64_t point) const {
   c.material.friction_angle = std::atan(dem::laws::table1::kFriction);
   c.seed = static_cast<std::uint64_t>(p_.seed) + point;
   native::RveState s = native::build_cloud(c);
-  s.dt *= p_.time_step_scale;
   native::set_contact_law(s, p_.law);
   return s;
 }
@@ -133,6 +131,8 @@ void NativeBackend::initialise(const protocol::RveInit* init, protocol::RveReply
     native::PreparedRve& g = set.groups[set.of[k]];
     RveRecord& r = rves_[k];
     r.state = last[set.of[k]] == k ? std::move(g.state) : g.state;
+    // Consolidated with the packing's step; the updates take time_step_scale of it.
+    r.state.dt *= p_.time_step_scale;
     r.unbalanced = g.unbalanced;
     const double mean = (init[k].stress[0] + init[k].stress[4] + init[k].stress[8]) / 3.0;
     r.p0 = std::max(std::abs(mean), 1.0);

@@ -29,7 +29,8 @@ struct NativeParams {
   int inline_spheres = 60;
   SubstepRule substeps;  // DEM substeps per update (coupling.native.ns_rule, ns, ...)
   double damping = 0.2;
-  // The DEM time step over the packing's (coupling.native.time_step_scale).
+  // The DEM time step of the updates over the packing's (coupling.native.time_step_scale);
+  // the consolidation keeps the packing's.
   double time_step_scale = 1;
   double ke_threshold = 10;
   bool stiffness = true;

@@ -7,9 +7,9 @@ import sys
 import yaml
 
 from .. import launch
-from ..entry import fail, parse_options
+from ..entry import parse_options
 from ..sweep import StudySpec, Variant, copy_doc, sweep
-from . import default_out
+from . import prepare
 
 STUDY = "aspect_ratio_study"
 
@@ -19,16 +19,11 @@ def main(argv, script):
                       {"out": "", "scene": str(launch.ROOT / "configs/column_collapse_mc.yaml"),
                        "aspect-ratios": "0.5 1 2.4 6 12", "schemes": "shipped,fts003",
                        "cfl-check": "6", "figure": "", "domain-factor": "2"})
-    scene = o["scene"]
-    if not os.path.isfile(scene):
-        fail(STUDY, f"no scene file '{scene}'")
-    out = o["out"] or default_out(STUDY)
-    figure = o["figure"] or f"{out}/aspect_ratio.png"
     try:
-        app = launch.mpm_app()
+        app, scene, out = prepare(STUDY, o, subdir="runs")
     except launch.LaunchError as e:
         return e.code
-    os.makedirs(os.path.join(out, "runs"), exist_ok=True)
+    figure = o["figure"] or f"{out}/aspect_ratio.png"
     return study(app, scene, out, o["aspect-ratios"], o["schemes"], o["cfl-check"], figure,
                  o["domain-factor"])
 

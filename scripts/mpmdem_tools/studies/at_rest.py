@@ -8,10 +8,10 @@ import sys
 import yaml
 
 from .. import launch
-from ..entry import fail, parse_options
+from ..entry import parse_options
 from ..summary import read_summary
 from ..sweep import StudySpec, Variant, copy_doc, sweep
-from . import default_out
+from . import prepare
 
 STUDY = "at_rest_study"
 SCHEMES = [("PIC/FLIP, flip_velocity_scale 1.75 m/s (shipped)", "shipped", {}),
@@ -23,16 +23,11 @@ def main(argv, script):
     o = parse_options(argv, STUDY, script,
                       {"out": "", "scene": str(launch.ROOT / "configs/column_collapse_mc.yaml"),
                        "figure": ""})
-    scene = o["scene"]
-    if not os.path.isfile(scene):
-        fail(STUDY, f"no scene file '{scene}'")
-    out = o["out"] or default_out(STUDY)
-    figure = o["figure"] or f"{out}/at_rest.png"
     try:
-        app = launch.mpm_app()
+        app, scene, out = prepare(STUDY, o)
     except launch.LaunchError as e:
         return e.code
-    os.makedirs(out, exist_ok=True)
+    figure = o["figure"] or f"{out}/at_rest.png"
     return study(app, scene, out, figure)
 
 

@@ -8,9 +8,9 @@ import yaml
 
 from .. import launch
 from ..convergence import richardson_text
-from ..entry import fail, parse_options
+from ..entry import parse_options
 from ..sweep import StudySpec, Variant, copy_doc, sweep
-from . import default_out
+from . import prepare
 
 STUDY = "grid_convergence_study"
 MU_BASE = 0.52  # grain friction (Table 1), walls.friction of the friction base
@@ -24,15 +24,10 @@ def main(argv, script):
                       {"out": "", "scene": str(launch.ROOT / "configs/column_collapse_mc.yaml"),
                        "cells": "0.11 0.055 0.0275", "ppc": "2 3", "bases": "fixed,friction",
                        "solver": []}, repeatable=("solver",))
-    scene = o["scene"]
-    if not os.path.isfile(scene):
-        fail(STUDY, f"no scene file '{scene}'")
-    out = o["out"] or default_out(STUDY)
     try:
-        app = launch.mpm_app()
+        app, scene, out = prepare(STUDY, o, subdir="runs")
     except launch.LaunchError as e:
         return e.code
-    os.makedirs(os.path.join(out, "runs"), exist_ok=True)
     return study(app, scene, out, o["cells"], o["ppc"], o["bases"], o["solver"])
 
 

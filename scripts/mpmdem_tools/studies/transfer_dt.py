@@ -7,7 +7,7 @@ import yaml
 from .. import launch
 from ..entry import fail, parse_options
 from ..sweep import StudySpec, Variant, copy_doc, sweep
-from . import default_out
+from . import prepare
 
 STUDY = "transfer_dt_study"
 # label -> solver keys replacing the scene's shape/transfer/flip keys (and "placement", set
@@ -60,17 +60,13 @@ def main(argv, script):
     o = parse_options(argv, STUDY, script,
                       {"out": "", "scene": str(launch.ROOT / "configs/column_collapse_mc.yaml"),
                        "base": ""})
-    base_wall, scene = o["base"], o["scene"]
+    base_wall = o["base"]
     if base_wall not in ("", "fixed", "friction"):
         fail(STUDY, f"--base must be fixed or friction, got '{base_wall}'")
-    if not os.path.isfile(scene):
-        fail(STUDY, f"no scene file '{scene}'")
-    out = o["out"] or default_out(STUDY)
     try:
-        app = launch.mpm_app()
+        app, scene, out = prepare(STUDY, o)
     except launch.LaunchError as e:
         return e.code
-    os.makedirs(out, exist_ok=True)
     return study(app, scene, out, base_wall)
 
 

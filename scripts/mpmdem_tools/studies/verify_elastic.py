@@ -12,7 +12,7 @@ from ..convergence import observed_order_from_errors
 from ..entry import fail, parse_options
 from ..summary import read_summary
 from ..sweep import StudySpec, Variant, sweep
-from . import default_out
+from . import prepare
 
 TOOL = "verify_elastic"
 
@@ -21,12 +21,10 @@ def main(argv, script):
     o = parse_options(argv, TOOL, script, {"out": "", "threads": "1", "levels": "3"})
     if o["levels"] not in ("1", "2", "3", "4"):
         fail(TOOL, "--levels must be 1-4")
-    out = o["out"] or default_out(TOOL)
     try:
-        app = launch.mpm_app()
+        app, _, out = prepare(TOOL, o, scene_option=False)
     except launch.LaunchError as e:
         return e.code
-    os.makedirs(out, exist_ok=True)
     return study(app, str(launch.ROOT / "configs/elastic_column.yaml"), out, o["threads"],
                  int(o["levels"]))
 

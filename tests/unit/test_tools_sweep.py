@@ -17,14 +17,16 @@ class Failed(Exception):
     pass
 
 
-def fake_run(fail_at=None):
+def fake_run(fail_at=None, watch=None):
     """A run that returns a summary from its scene (steps = 1000 x solver.cfl) and records
-    its calls; the variant named fail_at raises Failed, as a failed mpm_app ends a study."""
+    its calls; the variant named fail_at raises Failed, as a failed mpm_app ends a study, after
+    noting in calls what the file `watch` holds at that moment (what a killed study leaves)."""
     calls = []
 
     def run(app, scene, where, name, study):
         calls.append((app, where, name, study))
         if name == fail_at:
+            calls.append(watch.read_bytes() if watch and watch.exists() else None)
             raise Failed(name)
         return {"steps": int(1000 * scene["solver"]["cfl"]), "run_s": 0.0}
 
@@ -70,15 +72,17 @@ class Sweep(unittest.TestCase):
         spec = StudySpec("study", self.variants, self.metrics, run=run, runs_dir="",
                          csv_name="c.csv", csv_lineterminator="\n", progress=False)
         sweep(spec, "APP", str(self.out))
-        self.assertEqual((self.out / "c.csv").read_text(), "cfl,steps\n0.5,500\n0.25,250\n")
+        self.assertEqual((self.out / "c.csv").read_bytes(), b"cfl,steps\n0.5,500\n0.25,250\n")
         self.assertTrue(all(c[1] == str(self.out) for c in calls))
 
     def test_rows_before_a_failed_run_stay(self):
-        run, _ = fake_run(fail_at="cfl0.25")
+        run, calls = fake_run(fail_at="cfl0.25", watch=self.out / "study.csv")
         spec = StudySpec("study", self.variants, self.metrics, lambda rows: "never\n", run=run,
                          progress=False)
         with self.assertRaises(Failed):
             sweep(spec, "APP", str(self.out))
+        # On disk while the second run was still going (flushed), and after the study ended.
+        self.assertEqual(calls[-1], b"cfl,steps\r\n0.5,500\r\n")
         self.assertEqual((self.out / "study.csv").read_bytes(), b"cfl,steps\r\n0.5,500\r\n")
         self.assertFalse((self.out / "table.md").exists())
 
